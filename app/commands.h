@@ -1,0 +1,14 @@
+/// @brief The subcommands of `cvc`, each defined in its own <name>_command.cpp.
+#pragma once
+
+namespace CLI {
+class App;
+}
+
+namespace app {
+
+/// Each adds one subcommand (its options and its callback) to the program.
+void addRenderCommand(CLI::App& program);
+void addPhantomCommand(CLI::App& program);
+
+}  // namespace app

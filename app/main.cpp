@@ -1,0 +1,27 @@
+/// @brief `cvc`: the conformal-vc command-line program. Parses arguments, runs one subcommand,
+/// and turns any error into one line on stderr and a non-zero exit.
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.h"
+
+int main(int argc, char** argv) {
+    CLI::App program{"conformal-vc: virtual colonoscopy rendering for partially-immersive displays"};
+    program.require_subcommand(1);
+    program.set_version_flag("--version", "conformal-vc 0.1.0");
+
+    app::addRenderCommand(program);
+    app::addPhantomCommand(program);
+
+    try {
+        program.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return program.exit(e);
+    } catch (const std::exception& e) {
+        std::cerr << "cvc: error: " << e.what() << '\n';
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,53 @@
+#include "app/option_parsing.h"
+
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include <unistd.h>
+
+#include "engine/pinhole_camera.h"
+
+namespace app {
+
+std::pair<int, int> parseImageSize(const std::string& text) {
+    const auto x = text.find('x');
+    std::size_t usedWidth = 0, usedHeight = 0;
+    int width = 0, height = 0;
+    try {
+        if (x == std::string::npos) throw std::invalid_argument("no x");
+        width = std::stoi(text.substr(0, x), &usedWidth);
+        height = std::stoi(text.substr(x + 1), &usedHeight);
+    } catch (const std::exception&) {
+        throw std::invalid_argument("--size '" + text + "' is not WIDTHxHEIGHT");
+    }
+    if (usedWidth != x || usedHeight != text.size() - x - 1 || width < 1 || height < 1 ||
+        width > engine::kMaxImageSide || height > engine::kMaxImageSide) {
+        throw std::invalid_argument("--size '" + text + "' must be WIDTHxHEIGHT with sides 1.." +
+                                    std::to_string(engine::kMaxImageSide));
+    }
+    return {width, height};
+}
+
+glm::dvec3 vec3From(const std::vector<double>& values, const std::string& option) {
+    if (values.size() != 3 || !std::isfinite(values[0]) || !std::isfinite(values[1]) || !std::isfinite(values[2])) {
+        throw std::invalid_argument(option + " needs three finite numbers x,y,z");
+    }
+    return {values[0], values[1], values[2]};
+}
+
+void requireWritableOutput(const std::string& path, bool force) {
+    namespace fs = std::filesystem;
+    if (!force && fs::exists(path)) {
+        throw std::runtime_error(path + ": exists already (pass --force to replace it)");
+    }
+    const fs::path parent = fs::absolute(fs::path(path)).parent_path();
+    if (!fs::is_directory(parent)) {
+        throw std::runtime_error(path + ": output folder " + parent.string() + " does not exist");
+    }
+    if (access(parent.c_str(), W_OK) != 0) {
+        throw std::runtime_error(path + ": output folder " + parent.string() + " is not writable");
+    }
+}
+
+}  // namespace app

@@ -1,0 +1,73 @@
+#include "engine/compute_pipeline.h"
+
+#include <map>
+#include <stdexcept>
+
+namespace engine {
+
+ComputePipeline::ComputePipeline(const GpuContext& context, std::span<const uint32_t> spirv,
+                                 const std::vector<vk::DescriptorType>& bindings, uint32_t pushConstantBytes,
+                                 const std::string& debugName)
+    : mContext(&context),
+      mBindingTypes(bindings),
+      mPushConstantBytes(pushConstantBytes),
+      mShader(context.device(), vk::ShaderModuleCreateInfo({}, spirv.size_bytes(), spirv.data())) {
+    std::vector<vk::DescriptorSetLayoutBinding> layoutBindings;
+    std::map<vk::DescriptorType, uint32_t> typeCounts;
+    for (uint32_t i = 0; i < bindings.size(); ++i) {
+        layoutBindings.emplace_back(i, bindings[i], 1, vk::ShaderStageFlagBits::eCompute);
+        ++typeCounts[bindings[i]];
+    }
+    mSetLayout = vk::raii::DescriptorSetLayout(context.device(), vk::DescriptorSetLayoutCreateInfo({}, layoutBindings));
+
+    vk::PushConstantRange pushRange(vk::ShaderStageFlagBits::eCompute, 0, pushConstantBytes);
+    vk::PipelineLayoutCreateInfo layoutInfo({}, *mSetLayout);
+    if (pushConstantBytes > 0) layoutInfo.setPushConstantRanges(pushRange);
+    mPipelineLayout = vk::raii::PipelineLayout(context.device(), layoutInfo);
+
+    vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *mShader, "main");
+    mPipeline = vk::raii::Pipeline(context.device(), nullptr, vk::ComputePipelineCreateInfo({}, stage, *mPipelineLayout));
+    context.setDebugName(mPipeline, debugName);
+
+    std::vector<vk::DescriptorPoolSize> poolSizes;
+    for (const auto& [type, count] : typeCounts) poolSizes.emplace_back(type, count);
+    mDescriptorPool = vk::raii::DescriptorPool(
+        context.device(),
+        vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 1, poolSizes));
+    vk::raii::DescriptorSets sets(context.device(), vk::DescriptorSetAllocateInfo(*mDescriptorPool, *mSetLayout));
+    mDescriptorSet = std::move(sets.front());
+}
+
+void ComputePipeline::bindBuffer(uint32_t binding, const GpuBuffer& buffer) {
+    vk::DescriptorBufferInfo info(*buffer.buffer(), 0, VK_WHOLE_SIZE);
+    mContext->device().updateDescriptorSets(
+        vk::WriteDescriptorSet(*mDescriptorSet, binding, 0, mBindingTypes.at(binding), {}, info), {});
+}
+
+void ComputePipeline::bindStorageImage(uint32_t binding, const GpuImage& image) {
+    vk::DescriptorImageInfo info({}, *image.view(), vk::ImageLayout::eGeneral);
+    mContext->device().updateDescriptorSets(
+        vk::WriteDescriptorSet(*mDescriptorSet, binding, 0, mBindingTypes.at(binding), info), {});
+}
+
+void ComputePipeline::bindSampledImage(uint32_t binding, const GpuImage& image, const vk::raii::Sampler& sampler) {
+    vk::DescriptorImageInfo info(*sampler, *image.view(), vk::ImageLayout::eShaderReadOnlyOptimal);
+    mContext->device().updateDescriptorSets(
+        vk::WriteDescriptorSet(*mDescriptorSet, binding, 0, mBindingTypes.at(binding), info), {});
+}
+
+void ComputePipeline::recordDispatch(const vk::raii::CommandBuffer& commands, vk::Extent3D groups,
+                                     std::span<const std::byte> pushConstants) const {
+    if (pushConstants.size() != mPushConstantBytes) {
+        throw std::logic_error("push constants of " + std::to_string(pushConstants.size()) +
+                               " bytes for a pipeline that declares " + std::to_string(mPushConstantBytes));
+    }
+    commands.bindPipeline(vk::PipelineBindPoint::eCompute, *mPipeline);
+    commands.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *mPipelineLayout, 0, *mDescriptorSet, {});
+    if (!pushConstants.empty()) {
+        commands.pushConstants<std::byte>(*mPipelineLayout, vk::ShaderStageFlagBits::eCompute, 0, pushConstants);
+    }
+    commands.dispatch(groups.width, groups.height, groups.depth);
+}
+
+}  // namespace engine

@@ -1,0 +1,15 @@
+/// @brief Writing 8-bit RGBA images as PNG files (libpng).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+namespace engine {
+
+/// Writes `rgba` (width * height * 4 bytes, row 0 at the top) to `path` as an 8-bit RGBA PNG.
+/// Refuses to replace an existing file unless `overwrite`; throws std::runtime_error naming
+/// the path when the file cannot be written (missing or read-only folder, full disk).
+void writePng(const std::string& path, int width, int height, std::span<const uint8_t> rgba, bool overwrite);
+
+}  // namespace engine

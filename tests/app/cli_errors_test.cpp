@@ -1,0 +1,146 @@
+// Bad input given to `cvc`: one clear line on stderr naming the problem, a non-zero exit, no
+// crash, and nothing the user had overwritten.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/run_program.h"
+#include "volumes/analytic_phantom.h"
+#include "volumes/nrrd_io.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::lineCount;
+using testing_support::readWholeFile;
+using testing_support::runCvc;
+
+fs::path tmp(const std::string& name) { return fs::path(CVC_TEST_TMP_DIR) / name; }
+
+/// A small valid NRRD volume to damage in various ways.
+fs::path writeSmallVolume(const std::string& name) {
+    volumes::BallSpec spec;
+    spec.grid.dims = {16, 16, 16};
+    spec.centreMm = glm::dvec3(7.5);
+    spec.radiusMm = 5.0;
+    const fs::path path = tmp(name);
+    volumes::writeNrrd(volumes::makeBallPhantom(spec), path.string(), true);
+    return path;
+}
+
+void expectOneLineError(const testing_support::ProgramRun& run, const std::string& mustMention) {
+    EXPECT_NE(run.exitCode, 0);
+    EXPECT_EQ(lineCount(run.err), 1) << run.err;
+    EXPECT_EQ(run.err.rfind("cvc: error: ", 0), 0u) << run.err;
+    EXPECT_NE(run.err.find(mustMention), std::string::npos) << run.err;
+}
+
+TEST(CliErrors, MissingVolumeFile) {
+    const auto run = runCvc("render " + tmp("does_not_exist.nrrd").string() + " -o " + tmp("x.png").string() + " --force");
+    expectOneLineError(run, "does_not_exist.nrrd: cannot open file");
+}
+
+TEST(CliErrors, TruncatedNrrd) {
+    const fs::path good = writeSmallVolume("truncate_me.nrrd");
+    const std::string bytes = readWholeFile(good);
+    const fs::path bad = tmp("truncated.nrrd");
+    std::ofstream(bad, std::ios::binary) << bytes.substr(0, bytes.size() - 1000);
+    const auto run = runCvc("render " + bad.string() + " -o " + tmp("x.png").string() + " --force");
+    expectOneLineError(run, "truncated.nrrd: holds");
+    EXPECT_NE(run.err.find("truncated"), std::string::npos);
+}
+
+TEST(CliErrors, HeaderDisagreesWithDataSize) {
+    const fs::path good = writeSmallVolume("resize_me.nrrd");
+    std::string bytes = readWholeFile(good);
+    const auto sizes = bytes.find("sizes: 16 16 16");
+    ASSERT_NE(sizes, std::string::npos);
+    bytes.replace(sizes, 15, "sizes: 16 16 15");  // one slice fewer than the data holds
+    const fs::path bad = tmp("wrong_sizes.nrrd");
+    std::ofstream(bad, std::ios::binary) << bytes;
+    const auto run = runCvc("render " + bad.string() + " -o " + tmp("x.png").string() + " --force");
+    expectOneLineError(run, "wrong_sizes.nrrd: holds 8192 bytes of voxel data, the header's sizes and type call for 7680");
+}
+
+TEST(CliErrors, GarbageAndAbsurdHeaders) {
+    const fs::path garbage = tmp("garbage.nrrd");
+    std::ofstream(garbage, std::ios::binary) << "this is not a volume\n";
+    expectOneLineError(runCvc("render " + garbage.string() + " -o " + tmp("x.png").string() + " --force"),
+                       "not a NRRD file");
+
+    const fs::path huge = tmp("huge.nrrd");
+    std::ofstream(huge, std::ios::binary) << "NRRD0004\ntype: int16\ndimension: 3\nsizes: 100000 100000 100000\n"
+                                             "encoding: raw\n\n";
+    expectOneLineError(runCvc("render " + huge.string() + " -o " + tmp("x.png").string() + " --force"),
+                       "size 100000 along axis 0 is outside 1..4096");
+
+    const fs::path spacing = tmp("spacing.nrrd");
+    std::ofstream(spacing, std::ios::binary)
+        << "NRRD0004\ntype: int16\ndimension: 3\nsizes: 2 2 2\nspace: left-posterior-superior\n"
+           "space directions: (1e9,0,0) (0,1,0) (0,0,1)\nencoding: raw\n\n"
+        << std::string(16, '\0');
+    expectOneLineError(runCvc("render " + spacing.string() + " -o " + tmp("x.png").string() + " --force"),
+                       "voxel spacing along axis 0 is 1e+09 mm");
+}
+
+TEST(CliErrors, NaNVoxelsAreRejected) {
+    const fs::path path = tmp("nan.nrrd");
+    std::ofstream out(path, std::ios::binary);
+    out << "NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 2\nencoding: raw\nendian: little\n\n";
+    const float values[8] = {0, 1, 2, 3, std::numeric_limits<float>::quiet_NaN(), 5, 6, 7};
+    out.write(reinterpret_cast<const char*>(values), sizeof(values));
+    out.close();
+    expectOneLineError(runCvc("render " + path.string() + " -o " + tmp("x.png").string() + " --force"),
+                       "voxel 4 is not a finite number");
+}
+
+TEST(CliErrors, NoVulkanDriver) {
+    const fs::path volume = writeSmallVolume("no_driver.nrrd");
+    const auto run = runCvc("render " + volume.string() + " -o " + tmp("no_driver.png").string() + " --force",
+                            "VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json");
+    expectOneLineError(run, "Vulkan");
+    EXPECT_FALSE(fs::exists(tmp("no_driver.png")));
+}
+
+TEST(CliErrors, UnknownDeviceNamesEveryCandidate) {
+    const fs::path volume = writeSmallVolume("no_such_device.nrrd");
+    const auto run = runCvc("render " + volume.string() + " -o " + tmp("x.png").string() +
+                            " --force --device no-such-gpu-anywhere");
+    expectOneLineError(run, "does not match the requested device 'no-such-gpu-anywhere'");
+}
+
+TEST(CliErrors, ExistingOutputIsNotOverwrittenWithoutForce) {
+    const fs::path volume = writeSmallVolume("keep.nrrd");
+    const fs::path existing = tmp("keep_me.png");
+    std::ofstream(existing) << "precious";
+    expectOneLineError(runCvc("render " + volume.string() + " -o " + existing.string()), "exists already");
+    EXPECT_EQ(readWholeFile(existing), "precious");
+    expectOneLineError(runCvc("phantom -o " + volume.string()), "exists already");
+}
+
+TEST(CliErrors, UnwritableOutputFolder) {
+    const fs::path volume = writeSmallVolume("unwritable.nrrd");
+    expectOneLineError(runCvc("render " + volume.string() + " -o " + tmp("missing_folder/x.png").string()),
+                       "does not exist");
+}
+
+TEST(CliRender, WritesAPngOfThePhantom) {
+    const fs::path volume = tmp("cli_ball.nrrd");
+    ASSERT_EQ(runCvc("phantom --kind ball --size 48 --force -o " + volume.string()).exitCode, 0);
+    const fs::path png = tmp("cli_ball.png");
+    const auto run = runCvc("render " + volume.string() + " --iso 0 --size 64x48 --force -o " + png.string());
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const std::string bytes = readWholeFile(png);
+    ASSERT_GT(bytes.size(), 24u);
+    EXPECT_EQ(bytes.substr(1, 3), "PNG");
+    // IHDR holds width and height big-endian at bytes 16..23.
+    auto be32 = [&](std::size_t at) {
+        return (static_cast<unsigned char>(bytes[at]) << 24) | (static_cast<unsigned char>(bytes[at + 1]) << 16) |
+               (static_cast<unsigned char>(bytes[at + 2]) << 8) | static_cast<unsigned char>(bytes[at + 3]);
+    };
+    EXPECT_EQ(be32(16), 64);
+    EXPECT_EQ(be32(20), 48);
+}
+
+}  // namespace
