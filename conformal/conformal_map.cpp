@@ -1,0 +1,143 @@
+/// @brief Builds phi5 and phi6 by Ricci flow, aligns them, and evaluates F and G by point
+/// location: sphere mesh -> disk (barycentric), disk -> other sphere mesh (barycentric).
+#include "conformal/conformal_map.h"
+
+#include <chrono>
+#include <cmath>
+#include <future>
+#include <limits>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+#include "conformal/mobius_alignment.h"
+
+namespace conformal {
+
+namespace {
+
+using Complex = std::complex<double>;
+
+/// Aligns a disk map so that ceiling corners 0, 1, 2 go to 1, i, -1.
+void alignCorners(std::vector<Complex>& disk, const std::array<int, 4>& corners) {
+    std::array<Complex, 3> images{};
+    for (int k = 0; k < 3; ++k) images[k] = disk[corners[k]] / std::abs(disk[corners[k]]);
+    const Mobius align = mobiusAligningCorners(images);
+    for (auto& z : disk) z = align(z);
+}
+
+std::vector<Complex> diskOfSphere(const SphereMesh& sphere, const RicciFlowSettings& flow,
+                                  RiemannMapReport* report) {
+    std::vector<Complex> disk = diskFromMesh(sphere.mesh, sphere.nadirVertex, flow, report);
+    alignCorners(disk, sphere.cornerVertices);
+    return disk;
+}
+
+}  // namespace
+
+ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(settings) {
+    const auto start = std::chrono::steady_clock::now();
+    validateCaveBox(settings.box);
+    // The two sides are independent: mesh and flow them on two threads.
+    auto sceneJob = std::async(std::launch::async, [&] {
+        mScene = buildSphereMesh(settings.box, SphereDomain::Scene, settings.mesh);
+        mSceneDisk = diskOfSphere(mScene, settings.flow, &mReport.scene);
+    });
+    mDisplay = buildSphereMesh(settings.box, SphereDomain::Display, settings.mesh);
+    mDisplayDisk = diskOfSphere(mDisplay, settings.flow, &mReport.display);
+    sceneJob.get();
+
+    mSceneLocator = DiskLocator(mSceneDisk, mScene.mesh.triangles);
+    mDisplayLocator = DiskLocator(mDisplayDisk, mDisplay.mesh.triangles);
+    const auto corners = ceilingCornerDirections(settings.box);
+    const glm::dvec3 zenith(0.0, 1.0, 0.0);
+    for (int k = 0; k < 4; ++k) {
+        glm::dvec3 normal = glm::normalize(glm::cross(corners[k], corners[(k + 1) % 4]));
+        if (glm::dot(normal, zenith) < 0.0) normal = -normal;
+        mEdgeNormals[k] = normal;
+    }
+    mReport.sceneCorner3 = mSceneDisk[mScene.cornerVertices[3]];
+    mReport.displayCorner3 = mDisplayDisk[mDisplay.cornerVertices[3]];
+    mReport.sceneNadir = mSceneDisk[mScene.nadirVertex];
+    mReport.displayNadir = mDisplayDisk[mDisplay.nadirVertex];
+    mReport.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Complex ConformalMap::diskFromDisplay(const glm::dvec3& display) const {
+    const MeshLocation location = locateDirection(mDisplay, display);
+    if (location.triangle < 0) {
+        throw std::domain_error("conformal map: the display direction is on the ceiling, "
+                                "outside Omega5");
+    }
+    const auto& tri = mDisplay.mesh.triangles[location.triangle];
+    return location.barycentric.x * mDisplayDisk[tri[0]] +
+           location.barycentric.y * mDisplayDisk[tri[1]] +
+           location.barycentric.z * mDisplayDisk[tri[2]];
+}
+
+Complex ConformalMap::diskFromScene(const glm::dvec3& scene) const {
+    const MeshLocation location = locateDirection(mScene, scene);
+    const auto& tri = mScene.mesh.triangles[location.triangle];
+    return location.barycentric.x * mSceneDisk[tri[0]] + location.barycentric.y * mSceneDisk[tri[1]] +
+           location.barycentric.z * mSceneDisk[tri[2]];
+}
+
+glm::dvec3 ConformalMap::sceneFromDisk(Complex zeta) const {
+    const DiskLocation location = mSceneLocator.locate(zeta);
+    if (location.triangle < 0) return glm::dvec3(std::numeric_limits<double>::quiet_NaN());
+    const auto& tri = mScene.mesh.triangles[location.triangle];
+    const auto& p = mScene.mesh.positions;
+    return glm::normalize(location.barycentric.x * p[tri[0]] + location.barycentric.y * p[tri[1]] +
+                          location.barycentric.z * p[tri[2]]);
+}
+
+glm::dvec3 ConformalMap::displayFromDisk(Complex zeta) const {
+    const DiskLocation location = mDisplayLocator.locate(zeta);
+    if (location.triangle < 0) return glm::dvec3(std::numeric_limits<double>::quiet_NaN());
+    const auto& tri = mDisplay.mesh.triangles[location.triangle];
+    const auto& p = mDisplay.mesh.positions;
+    return glm::normalize(location.barycentric.x * p[tri[0]] + location.barycentric.y * p[tri[1]] +
+                          location.barycentric.z * p[tri[2]]);
+}
+
+glm::dvec3 ConformalMap::sceneFromDisplay(const glm::dvec3& display) const {
+    const glm::dvec3 d = glm::normalize(display);
+    const MeshLocation location = locateDirection(mDisplay, d);
+    if (location.triangle < 0) return ceilingExtension(d);
+    const auto& tri = mDisplay.mesh.triangles[location.triangle];
+    const Complex zeta = location.barycentric.x * mDisplayDisk[tri[0]] +
+                         location.barycentric.y * mDisplayDisk[tri[1]] +
+                         location.barycentric.z * mDisplayDisk[tri[2]];
+    return sceneFromDisk(zeta);
+}
+
+glm::dvec3 ConformalMap::displayFromScene(const glm::dvec3& scene) const {
+    return displayFromDisk(diskFromScene(glm::normalize(scene)));
+}
+
+glm::dvec3 ConformalMap::ceilingExtension(const glm::dvec3& display) const {
+    // Point reflection through the foot on the nearest ceiling edge: F(b + v) := 2 F(b) - F(b - v)
+    // continues F with its value and normal derivative across the edge.
+    int nearest = 0;
+    double nearestDistance = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 4; ++k) {
+        const double distance = std::abs(glm::dot(display, mEdgeNormals[k]));
+        if (distance < nearestDistance) {
+            nearestDistance = distance;
+            nearest = k;
+        }
+    }
+    const glm::dvec3& normal = mEdgeNormals[nearest];
+    const double height = glm::dot(display, normal);
+    const glm::dvec3 mirrored = display - 2.0 * height * normal;
+    constexpr double kInset = 1e-9;  // moves the foot off the edge into Omega5
+    const glm::dvec3 foot = glm::normalize(display - (height + kInset) * normal);
+    const glm::dvec3 onEdge = sceneFromDisplay(foot);
+    const glm::dvec3 across = sceneFromDisplay(mirrored);
+    const glm::dvec3 extended = 2.0 * onEdge - across;
+    const double length = glm::length(extended);
+    return length > 1e-12 ? extended / length : onEdge;
+}
+
+}  // namespace conformal

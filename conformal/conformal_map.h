@@ -1,0 +1,71 @@
+/// @brief The conformal map F = phi6^-1 o phi5 between display and scene directions, from
+/// Ricci-flow Riemann maps of Omega5 and Omega6 aligned by Möbius transformations.
+#pragma once
+
+#include <complex>
+#include <vector>
+
+#include "conformal/cave_box.h"
+#include "conformal/direction_map.h"
+#include "conformal/disk_locator.h"
+#include "conformal/riemann_map.h"
+#include "conformal/sphere_mesh.h"
+
+namespace conformal {
+
+struct ConformalMapSettings {
+    CaveBox box;
+    SphereMeshSettings mesh;
+    RicciFlowSettings flow;
+};
+
+/// What building the map measured.
+struct ConformalMapReport {
+    RiemannMapReport scene;      ///< phi6's construction
+    RiemannMapReport display;    ///< phi5's construction
+    std::complex<double> sceneCorner3{0.0};    ///< phi6 image of the fourth corner (-i for a cube)
+    std::complex<double> displayCorner3{0.0};  ///< phi5 image of the fourth corner
+    std::complex<double> sceneNadir{0.0};      ///< phi6 image of the floor centre
+    std::complex<double> displayNadir{0.0};    ///< phi5 image of the floor centre
+    double seconds = 0.0;                      ///< wall-clock time to build
+};
+
+class ConformalMap final : public DirectionMap {
+public:
+    /// Builds both meshes and runs both flows (in parallel). Throws on failure.
+    explicit ConformalMap(const ConformalMapSettings& settings);
+
+    glm::dvec3 sceneFromDisplay(const glm::dvec3& display) const override;
+    glm::dvec3 displayFromScene(const glm::dvec3& scene) const override;
+
+    /// phi5 of a display direction in Omega5 (throws std::domain_error for ceiling directions).
+    std::complex<double> diskFromDisplay(const glm::dvec3& display) const;
+    /// phi6 of a scene direction.
+    std::complex<double> diskFromScene(const glm::dvec3& scene) const;
+    /// phi6^-1 and phi5^-1 of a point of the closed unit disk.
+    glm::dvec3 sceneFromDisk(std::complex<double> zeta) const;
+    glm::dvec3 displayFromDisk(std::complex<double> zeta) const;
+
+    const SphereMesh& sceneMesh() const { return mScene; }
+    const SphereMesh& displayMesh() const { return mDisplay; }
+    /// Aligned disk positions per vertex of sceneMesh() / displayMesh().
+    const std::vector<std::complex<double>>& sceneDisk() const { return mSceneDisk; }
+    const std::vector<std::complex<double>>& displayDisk() const { return mDisplayDisk; }
+    const ConformalMapReport& report() const { return mReport; }
+    const ConformalMapSettings& settings() const { return mSettings; }
+
+private:
+    glm::dvec3 ceilingExtension(const glm::dvec3& display) const;
+
+    ConformalMapSettings mSettings;
+    SphereMesh mScene;
+    SphereMesh mDisplay;
+    std::vector<std::complex<double>> mSceneDisk;
+    std::vector<std::complex<double>> mDisplayDisk;
+    DiskLocator mSceneLocator;
+    DiskLocator mDisplayLocator;
+    std::array<glm::dvec3, 4> mEdgeNormals{};  ///< outward normals of the ceiling edges' planes
+    ConformalMapReport mReport;
+};
+
+}  // namespace conformal

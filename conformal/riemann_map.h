@@ -1,0 +1,33 @@
+/// @brief The Riemann map of a topological disk mesh onto the unit disk, by the paper's route:
+/// punch a hole, flow to a flat metric with geodesic boundaries, slice, flatten, exponentiate.
+#pragma once
+
+#include <complex>
+#include <vector>
+
+#include "conformal/ricci_flow.h"
+#include "conformal/triangle_mesh.h"
+
+namespace conformal {
+
+/// What the construction measured on its way.
+struct RiemannMapReport {
+    RicciFlowResult flow;             ///< the flow on the punched mesh (lengths, iterations)
+    double outerRadiusError = 0.0;    ///< max | |w| - 1 | over the outer boundary's vertices
+    double innerRadius = 0.0;         ///< radius of the punched hole's image circle
+    double seamMismatch = 0.0;        ///< max |w| difference between a vertex's layout copies
+};
+
+/// Maps the vertices of `mesh` (a triangulated topological disk, CCW seen from outside) to the
+/// closed unit disk conformally, with `centreVertex` (interior) sent to 0 and the rotation left
+/// free. The star of `centreVertex` is removed; the remaining annulus gets, by Ricci flow,
+/// the flat metric with zero curvature everywhere (both boundaries geodesic), so it is a flat
+/// cylinder; it is cut along a shortest edge path between its boundaries, laid out in the
+/// plane (a strip, periodic by a translation T), scaled by 2 pi i / T and mapped by exp onto an
+/// annulus whose outer circle is the unit circle; the hole's centre goes to 0.
+/// Returns #V disk positions. Throws RicciFlowError or std::runtime_error on failure.
+std::vector<std::complex<double>> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
+                                               const RicciFlowSettings& settings,
+                                               RiemannMapReport* report = nullptr);
+
+}  // namespace conformal
