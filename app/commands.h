@@ -10,5 +10,6 @@ namespace app {
 /// Each adds one subcommand (its options and its callback) to the program.
 void addRenderCommand(CLI::App& program);
 void addPhantomCommand(CLI::App& program);
+void addInfoCommand(CLI::App& program);
 
 }  // namespace app

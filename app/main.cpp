@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
 
     app::addRenderCommand(program);
     app::addPhantomCommand(program);
+    app::addInfoCommand(program);
 
     try {
         program.parse(argc, argv);
