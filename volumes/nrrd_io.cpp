@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -11,29 +12,11 @@
 #include <sstream>
 #include <vector>
 
-#include <zlib.h>
-
 namespace volumes {
 namespace {
 
 /// A header longer than this is not a CT volume's header.
 constexpr std::size_t kMaxHeaderBytes = 1 << 20;
-
-enum class ScalarType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
-
-struct NrrdHeader {
-    ScalarType type = ScalarType::Int16;
-    std::size_t bytesPerValue = 2;
-    std::array<int, 3> sizes{0, 0, 0};
-    std::string encoding = "raw";
-    bool isBigEndian = false;
-    bool isRas = false;
-    bool hasSpaceDirections = false;
-    glm::dmat3 spaceDirections{1.0};
-    glm::dvec3 spacings{1.0};
-    glm::dvec3 origin{0.0};
-    std::streamoff dataOffset = 0;
-};
 
 std::string trim(const std::string& s) {
     const auto first = s.find_first_not_of(" \t\r");
@@ -51,27 +34,26 @@ std::string lower(std::string s) {
     throw VolumeError(path + ": " + problem);
 }
 
-ScalarType parseType(const std::string& path, const std::string& value, std::size_t& bytes) {
-    static const std::map<std::string, std::pair<ScalarType, std::size_t>> kTypes = {
-        {"signed char", {ScalarType::Int8, 1}},     {"int8", {ScalarType::Int8, 1}},
-        {"int8_t", {ScalarType::Int8, 1}},          {"uchar", {ScalarType::UInt8, 1}},
-        {"unsigned char", {ScalarType::UInt8, 1}},  {"uint8", {ScalarType::UInt8, 1}},
-        {"uint8_t", {ScalarType::UInt8, 1}},        {"short", {ScalarType::Int16, 2}},
-        {"short int", {ScalarType::Int16, 2}},      {"signed short", {ScalarType::Int16, 2}},
-        {"signed short int", {ScalarType::Int16, 2}}, {"int16", {ScalarType::Int16, 2}},
-        {"int16_t", {ScalarType::Int16, 2}},        {"ushort", {ScalarType::UInt16, 2}},
-        {"unsigned short", {ScalarType::UInt16, 2}}, {"unsigned short int", {ScalarType::UInt16, 2}},
-        {"uint16", {ScalarType::UInt16, 2}},        {"uint16_t", {ScalarType::UInt16, 2}},
-        {"int", {ScalarType::Int32, 4}},            {"signed int", {ScalarType::Int32, 4}},
-        {"int32", {ScalarType::Int32, 4}},          {"int32_t", {ScalarType::Int32, 4}},
-        {"uint", {ScalarType::UInt32, 4}},          {"unsigned int", {ScalarType::UInt32, 4}},
-        {"uint32", {ScalarType::UInt32, 4}},        {"uint32_t", {ScalarType::UInt32, 4}},
-        {"float", {ScalarType::Float32, 4}},        {"double", {ScalarType::Float64, 8}},
+ScalarType parseType(const std::string& path, const std::string& value) {
+    static const std::map<std::string, ScalarType> kTypes = {
+        {"signed char", ScalarType::Int8},      {"int8", ScalarType::Int8},
+        {"int8_t", ScalarType::Int8},           {"uchar", ScalarType::UInt8},
+        {"unsigned char", ScalarType::UInt8},   {"uint8", ScalarType::UInt8},
+        {"uint8_t", ScalarType::UInt8},         {"short", ScalarType::Int16},
+        {"short int", ScalarType::Int16},       {"signed short", ScalarType::Int16},
+        {"signed short int", ScalarType::Int16}, {"int16", ScalarType::Int16},
+        {"int16_t", ScalarType::Int16},         {"ushort", ScalarType::UInt16},
+        {"unsigned short", ScalarType::UInt16}, {"unsigned short int", ScalarType::UInt16},
+        {"uint16", ScalarType::UInt16},         {"uint16_t", ScalarType::UInt16},
+        {"int", ScalarType::Int32},             {"signed int", ScalarType::Int32},
+        {"int32", ScalarType::Int32},           {"int32_t", ScalarType::Int32},
+        {"uint", ScalarType::UInt32},           {"unsigned int", ScalarType::UInt32},
+        {"uint32", ScalarType::UInt32},         {"uint32_t", ScalarType::UInt32},
+        {"float", ScalarType::Float32},         {"double", ScalarType::Float64},
     };
     const auto it = kTypes.find(lower(value));
     if (it == kTypes.end()) fail(path, "unsupported NRRD type '" + value + "'");
-    bytes = it->second.second;
-    return it->second.first;
+    return it->second;
 }
 
 /// Parses "(x,y,z)" into a vector; false when the text is not three finite numbers.
@@ -89,15 +71,34 @@ bool parseVector(const std::string& text, glm::dvec3& out) {
     return std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
 }
 
-NrrdHeader parseHeader(const std::string& path, std::istream& in) {
+/// An integer field within [low, high], or fail naming it.
+std::int64_t parseInteger(const std::string& path, const std::string& key, const std::string& value,
+                          std::int64_t low, std::int64_t high) {
+    std::istringstream in(value);
+    long long n = 0;
+    std::string rest;
+    if (!(in >> n) || (in >> rest) || n < low || n > high) {
+        fail(path, key + " '" + value + "' is not an integer in " + std::to_string(low) + ".." + std::to_string(high));
+    }
+    return n;
+}
+
+}  // namespace
+
+NrrdHeader parseNrrdHeader(const std::string& path, std::istream& in) {
     NrrdHeader header;
     std::string line;
     if (!std::getline(in, line) || line.rfind("NRRD000", 0) != 0) {
         fail(path, "not a NRRD file (the first line must start with NRRD000)");
     }
     bool hasType = false, hasSizes = false, hasDimension = false;
-    std::size_t headerBytes = line.size();
-    while (std::getline(in, line)) {
+    std::size_t headerBytes = line.size() + 1;
+    while (true) {
+        if (!std::getline(in, line)) {
+            // A detached header may end at the end of the file instead of at a blank line.
+            if (header.dataFile.empty()) fail(path, "header ends before the blank line that precedes the data");
+            break;
+        }
         headerBytes += line.size() + 1;
         if (headerBytes > kMaxHeaderBytes) fail(path, "header longer than 1 MiB");
         line = trim(line);
@@ -106,11 +107,11 @@ NrrdHeader parseHeader(const std::string& path, std::istream& in) {
         // "key: value" is a field; "key:=value" is a key/value pair we may ignore.
         if (line.find(":=") != std::string::npos) continue;
         const auto colon = line.find(": ");
-        if (colon == std::string::npos) fail(path, "malformed header line '" + line + "'");
+        if (colon == std::string::npos) fail(path, "malformed header line '" + line.substr(0, 80) + "'");
         const std::string key = lower(trim(line.substr(0, colon)));
         const std::string value = trim(line.substr(colon + 2));
         if (key == "type") {
-            header.type = parseType(path, value, header.bytesPerValue);
+            header.type = parseType(path, value);
             hasType = true;
         } else if (key == "dimension") {
             if (value != "3") fail(path, "dimension is " + value + ", expected 3");
@@ -124,9 +125,8 @@ NrrdHeader parseHeader(const std::string& path, std::istream& in) {
             }
             for (int axis = 0; axis < 3; ++axis) {
                 if (n[axis] < 1 || n[axis] > kMaxDimension) {
-                    fail(path, "size " + std::to_string(n[axis]) + " along axis " +
-                                   std::to_string(axis) + " is outside 1.." +
-                                   std::to_string(kMaxDimension));
+                    fail(path, "size " + std::to_string(n[axis]) + " along axis " + std::to_string(axis) +
+                                   " is outside 1.." + std::to_string(kMaxDimension));
                 }
                 header.sizes[static_cast<std::size_t>(axis)] = static_cast<int>(n[axis]);
             }
@@ -138,7 +138,9 @@ NrrdHeader parseHeader(const std::string& path, std::istream& in) {
                 fail(path, "unsupported encoding '" + value + "' (raw and gzip are supported)");
             }
         } else if (key == "endian") {
-            header.isBigEndian = lower(value) == "big";
+            const std::string endian = lower(value);
+            if (endian != "big" && endian != "little") fail(path, "endian '" + value + "', expected little or big");
+            header.isBigEndian = endian == "big";
         } else if (key == "space") {
             const std::string space = lower(value);
             if (space == "right-anterior-superior" || space == "ras") {
@@ -163,97 +165,32 @@ NrrdHeader parseHeader(const std::string& path, std::istream& in) {
                 fail(path, "spacings '" + value + "' are not three numbers");
             }
         } else if (key == "space origin") {
-            if (!parseVector(value, header.origin)) {
-                fail(path, "space origin '" + value + "' is not a 3-vector");
-            }
+            if (!parseVector(value, header.origin)) fail(path, "space origin '" + value + "' is not a 3-vector");
         } else if (key == "data file" || key == "datafile") {
-            fail(path, "detached NRRD data ('data file') is not supported by this reader");
+            if (value.rfind("LIST", 0) == 0 || value.find('%') != std::string::npos || value.find(' ') != std::string::npos) {
+                fail(path, "data file '" + value + "': data split over several files is not supported");
+            }
+            header.dataFile = value;
+        } else if (key == "byte skip" || key == "byteskip") {
+            header.byteSkip = parseInteger(path, key, value, -1, std::numeric_limits<std::int32_t>::max());
+        } else if (key == "line skip" || key == "lineskip") {
+            header.lineSkip = parseInteger(path, key, value, 0, 1 << 20);
         }
     }
     if (!hasType || !hasSizes || !hasDimension) {
         fail(path, "header lacks one of the required fields type, dimension, sizes");
     }
-    header.dataOffset = static_cast<std::streamoff>(headerBytes + 1);
+    if (header.byteSkip == -1 && header.encoding != "raw") {
+        fail(path, "byte skip -1 (data at the end of the file) needs raw encoding");
+    }
+    header.dataOffset = headerBytes;
     return header;
 }
-
-std::vector<unsigned char> gunzip(const std::string& path, const std::vector<unsigned char>& packed,
-                                  std::size_t expectedBytes) {
-    std::vector<unsigned char> out(expectedBytes);
-    z_stream stream{};
-    if (inflateInit2(&stream, 15 + 32) != Z_OK) fail(path, "cannot start gzip decoder");
-    stream.next_in = const_cast<unsigned char*>(packed.data());
-    stream.avail_in = static_cast<uInt>(std::min<std::size_t>(packed.size(), std::numeric_limits<uInt>::max()));
-    stream.next_out = out.data();
-    stream.avail_out = static_cast<uInt>(std::min<std::size_t>(out.size(), std::numeric_limits<uInt>::max()));
-    const int status = inflate(&stream, Z_FINISH);
-    const std::size_t produced = stream.total_out;
-    inflateEnd(&stream);
-    if (status == Z_BUF_ERROR && produced == expectedBytes) {
-        fail(path, "gzip data holds more than the " + std::to_string(expectedBytes) +
-                       " bytes the header's sizes and type call for");
-    }
-    if (status != Z_STREAM_END) {
-        fail(path, "gzip data is truncated or corrupt (decoded " + std::to_string(produced) +
-                       " of " + std::to_string(expectedBytes) + " bytes)");
-    }
-    if (produced != expectedBytes) {
-        fail(path, "gzip data decodes to " + std::to_string(produced) + " bytes, the header calls for " +
-                       std::to_string(expectedBytes));
-    }
-    return out;
-}
-
-template <typename T>
-T loadValue(const unsigned char* bytes, bool isBigEndian) {
-    unsigned char buffer[sizeof(T)];
-    std::memcpy(buffer, bytes, sizeof(T));
-    if (isBigEndian != (std::endian::native == std::endian::big)) std::reverse(buffer, buffer + sizeof(T));
-    T value;
-    std::memcpy(&value, buffer, sizeof(T));
-    return value;
-}
-
-/// Converts one stored value to int16 HU; throws for values that are not finite or do not fit.
-int16_t huFromStored(const std::string& path, double value, std::size_t index) {
-    if (!std::isfinite(value)) {
-        fail(path, "voxel " + std::to_string(index) + " is not a finite number");
-    }
-    const double rounded = std::nearbyint(value);
-    if (rounded < std::numeric_limits<int16_t>::min() || rounded > std::numeric_limits<int16_t>::max()) {
-        fail(path, "voxel " + std::to_string(index) + " has value " + std::to_string(value) +
-                       ", outside the int16 Hounsfield range");
-    }
-    return static_cast<int16_t>(rounded);
-}
-
-void convertToHu(const std::string& path, const NrrdHeader& header, const unsigned char* data,
-                 std::vector<int16_t>& hu) {
-    const std::size_t n = hu.size();
-    const std::size_t step = header.bytesPerValue;
-    for (std::size_t i = 0; i < n; ++i) {
-        const unsigned char* p = data + i * step;
-        double value = 0.0;
-        switch (header.type) {
-            case ScalarType::Int8: value = static_cast<int8_t>(p[0]); break;
-            case ScalarType::UInt8: value = p[0]; break;
-            case ScalarType::Int16: hu[i] = loadValue<int16_t>(p, header.isBigEndian); continue;
-            case ScalarType::UInt16: value = loadValue<uint16_t>(p, header.isBigEndian); break;
-            case ScalarType::Int32: value = loadValue<int32_t>(p, header.isBigEndian); break;
-            case ScalarType::UInt32: value = loadValue<uint32_t>(p, header.isBigEndian); break;
-            case ScalarType::Float32: value = loadValue<float>(p, header.isBigEndian); break;
-            case ScalarType::Float64: value = loadValue<double>(p, header.isBigEndian); break;
-        }
-        hu[i] = huFromStored(path, value, i);
-    }
-}
-
-}  // namespace
 
 Volume readNrrd(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(path, "cannot open file (" + std::string(std::strerror(errno)) + ")");
-    const NrrdHeader header = parseHeader(path, in);
+    const NrrdHeader header = parseNrrdHeader(path, in);
 
     Volume volume;
     volume.dims = header.sizes;
@@ -274,42 +211,60 @@ Volume readNrrd(const std::string& path) {
         volume.directionLps = flip * volume.directionLps;
         volume.originLps = flip * volume.originLps;
     }
-    volume.hu.resize(volume.voxelCount());
-    validateVolume(volume, path);
+    validateGeometry(volume, path);
 
-    const std::size_t expectedBytes = volume.voxelCount() * header.bytesPerValue;
-    in.clear();
-    in.seekg(0, std::ios::end);
-    const std::streamoff fileBytes = in.tellg();
-    const std::streamoff availableBytes = fileBytes - header.dataOffset;
-    in.seekg(header.dataOffset);
-
-    if (header.encoding == "raw") {
-        if (availableBytes < 0 || static_cast<std::size_t>(availableBytes) != expectedBytes) {
-            fail(path, "holds " + std::to_string(std::max<std::streamoff>(availableBytes, 0)) +
-                           " bytes of voxel data, the header's sizes and type call for " +
-                           std::to_string(expectedBytes) + (availableBytes < static_cast<std::streamoff>(expectedBytes)
-                                                                 ? " (truncated file?)"
-                                                                 : ""));
-        }
-        if (header.type == ScalarType::Int16 && !header.isBigEndian && std::endian::native == std::endian::little) {
-            // The common case reads straight into the volume: no second copy in memory.
-            in.read(reinterpret_cast<char*>(volume.hu.data()), static_cast<std::streamsize>(expectedBytes));
-            if (!in) fail(path, "read error in voxel data");
-        } else {
-            std::vector<unsigned char> raw(expectedBytes);
-            in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(expectedBytes));
-            if (!in) fail(path, "read error in voxel data");
-            convertToHu(path, header, raw.data(), volume.hu);
-        }
-    } else {
-        if (availableBytes <= 0) fail(path, "has no voxel data after the header");
-        std::vector<unsigned char> packed(static_cast<std::size_t>(availableBytes));
-        in.read(reinterpret_cast<char*>(packed.data()), availableBytes);
-        if (!in) fail(path, "read error in voxel data");
-        const std::vector<unsigned char> raw = gunzip(path, packed, expectedBytes);
-        convertToHu(path, header, raw.data(), volume.hu);
+    // Where the data are: after the header, or in the detached file beside it.
+    std::string dataPath = path;
+    std::ifstream detached;
+    std::istream* data = &in;
+    std::uint64_t dataStart = header.dataOffset;
+    if (!header.dataFile.empty()) {
+        dataPath = (std::filesystem::path(path).parent_path() / header.dataFile).string();
+        detached.open(dataPath, std::ios::binary);
+        if (!detached) fail(path, "cannot open its data file '" + dataPath + "' (" + std::strerror(errno) + ")");
+        data = &detached;
+        dataStart = 0;
     }
+    data->clear();
+    data->seekg(static_cast<std::streamoff>(dataStart));
+    std::string skipped;
+    for (std::int64_t n = 0; n < header.lineSkip; ++n) {
+        if (!std::getline(*data, skipped)) fail(dataPath, "ends within the " + std::to_string(header.lineSkip) + " lines to skip");
+    }
+    std::error_code error;
+    const std::uint64_t fileBytes = std::filesystem::file_size(dataPath, error);
+    if (error) fail(dataPath, "cannot read file size (" + error.message() + ")");
+    std::uint64_t position = static_cast<std::uint64_t>(static_cast<std::streamoff>(data->tellg()));
+    const std::uint64_t expectedBytes = volume.voxelCount() * bytesPerValue(header.type);
+    if (header.byteSkip == -1) {
+        if (fileBytes < expectedBytes) {
+            fail(dataPath, "holds " + std::to_string(fileBytes) + " bytes, fewer than the " +
+                               std::to_string(expectedBytes) + " the header's sizes and type call for");
+        }
+        position = fileBytes - expectedBytes;
+    } else {
+        position += static_cast<std::uint64_t>(header.byteSkip);
+    }
+    if (position > fileBytes) fail(dataPath, "byte skip points past the end of the file");
+    data->seekg(static_cast<std::streamoff>(position));
+
+    StoredFormat format;
+    format.type = header.type;
+    format.isBigEndian = header.isBigEndian;
+    volume.hu.resize(volume.voxelCount());
+    if (header.encoding == "raw") {
+        const std::uint64_t availableBytes = fileBytes - position;
+        if (availableBytes != expectedBytes) {
+            fail(dataPath, "holds " + std::to_string(availableBytes) +
+                               " bytes of voxel data, the header's sizes and type call for " +
+                               std::to_string(expectedBytes) + (availableBytes < expectedBytes ? " (truncated file?)" : ""));
+        }
+        readRawHu(dataPath, *data, format, volume.hu);
+    } else {
+        if (position >= fileBytes) fail(dataPath, "has no voxel data after the header");
+        readCompressedHu(dataPath, *data, format, volume.hu);
+    }
+    validateVolume(volume, path);
     return volume;
 }
 

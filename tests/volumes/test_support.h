@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include "volumes/volume.h"
 
@@ -38,6 +39,21 @@ inline std::string readBytes(const std::string& path) {
 
 inline std::string bytesOf(const std::vector<int16_t>& values) {
     return {reinterpret_cast<const char*>(values.data()), values.size() * sizeof(int16_t)};
+}
+
+/// `bytes` compressed as a gzip stream (`isGzip`) or a zlib stream.
+inline std::string deflateBytes(const std::string& bytes, bool isGzip) {
+    z_stream stream{};
+    deflateInit2(&stream, Z_BEST_SPEED, Z_DEFLATED, isGzip ? 15 + 16 : 15, 8, Z_DEFAULT_STRATEGY);
+    std::string out(deflateBound(&stream, static_cast<uLong>(bytes.size())) + 64, '\0');
+    stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+    stream.avail_in = static_cast<uInt>(bytes.size());
+    stream.next_out = reinterpret_cast<Bytef*>(out.data());
+    stream.avail_out = static_cast<uInt>(out.size());
+    deflate(&stream, Z_FINISH);
+    out.resize(stream.total_out);
+    deflateEnd(&stream);
+    return out;
 }
 
 /// A small volume with a known, non-symmetric pattern and a non-trivial geometry.
