@@ -25,7 +25,7 @@ struct RenderOptions {
     std::string outPath = "render.png";
     std::vector<double> positionMm;
     std::vector<double> lookAtMm;
-    std::vector<double> up{0.0, 0.0, 1.0};
+    std::vector<double> up;
     double fovDeg = 40.0;
     std::string size = "1024x1024";
     double isoHu = -500.0;
@@ -36,7 +36,8 @@ struct RenderOptions {
 };
 
 /// With no position given, the camera looks at the volume's centre from the patient's front
-/// (−y in LPS-aligned volume axes), far enough for the whole box to fit the field of view.
+/// (anterior, −y in LPS) with the head up (+z), whatever order the file stores the axes in,
+/// far enough back for the whole box to fit the field of view.
 engine::PinholeCamera cameraFrom(const RenderOptions& options, const volumes::Volume& volume) {
     engine::PinholeCamera camera;
     const auto [width, height] = parseImageSize(options.size);
@@ -45,11 +46,15 @@ engine::PinholeCamera cameraFrom(const RenderOptions& options, const volumes::Vo
     camera.verticalFovDeg = options.fovDeg;
     const glm::dvec3 centre = (glm::dvec3(volume.dims[0], volume.dims[1], volume.dims[2]) - 1.0) * 0.5 * volume.spacingMm;
     camera.lookAtMm = options.lookAtMm.empty() ? centre : vec3From(options.lookAtMm, "--look-at");
-    camera.up = vec3From(options.up, "--up");
+    // Patient-frame vectors become volume-frame vectors through the inverse (transpose) of
+    // the orthonormal direction matrix.
+    const glm::dmat3 volumeFromPatient = glm::transpose(volume.directionLps);
+    camera.up = options.up.empty() ? volumeFromPatient * glm::dvec3(0.0, 0.0, 1.0) : vec3From(options.up, "--up");
     if (options.positionMm.empty()) {
         const double radius = 0.5 * glm::length(volume.extentMm());
         const double distance = radius / std::sin(glm::radians(std::min(options.fovDeg, 170.0)) * 0.5);
-        camera.positionMm = camera.lookAtMm - glm::dvec3(0.0, distance, 0.0);
+        const glm::dvec3 anterior = volumeFromPatient * glm::dvec3(0.0, -1.0, 0.0);
+        camera.positionMm = camera.lookAtMm + anterior * distance;
     } else {
         camera.positionMm = vec3From(options.positionMm, "--position");
     }
@@ -86,7 +91,8 @@ void addRenderCommand(CLI::App& program) {
         ->expected(3)->delimiter(',');
     command->add_option("--look-at", options->lookAtMm, "Point looked at, x,y,z in volume mm (default: centre)")
         ->expected(3)->delimiter(',');
-    command->add_option("--up", options->up, "Up vector x,y,z")->expected(3)->delimiter(',')->capture_default_str();
+    command->add_option("--up", options->up, "Up vector x,y,z in volume axes (default: the patient's head)")
+        ->expected(3)->delimiter(',');
     command->add_option("--fov", options->fovDeg, "Vertical field of view in degrees")->capture_default_str();
     command->add_option("--size", options->size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
     command->add_option("--iso", options->isoHu, "Iso value in HU")->capture_default_str();

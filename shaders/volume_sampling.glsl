@@ -9,7 +9,9 @@ vec3 texFromMm(vec3 pMm) { return pMm * u.texFromMmScale.xyz + u.texFromMmOffset
 
 float sampleHu(vec3 pMm) { return huFromUnorm(textureLod(volumeTexture, texFromMm(pMm), 0.0).r); }
 
-// Central-difference gradient in HU per mm, one voxel to each side.
+// Central-difference gradient in HU per mm, one voxel to each side. Shifting by exactly one
+// voxel keeps the trilinear weights, so this equals the voxels' own central differences
+// blended trilinearly: continuous across voxel planes, at 6 fetches per shaded hit.
 vec3 gradientHu(vec3 pMm) {
     vec3 tc = texFromMm(pMm);
     vec3 h = u.voxelStepTex.xyz;

@@ -2,6 +2,7 @@
 // radius against the closed-form projection, hit depth against the sphere) and a tube seen
 // from inside (every hit on the cylinder).
 #include <cmath>
+#include <iostream>
 
 #include <gtest/gtest.h>
 
@@ -64,6 +65,7 @@ TEST_F(IsoSurfaceRendering, BallSilhouetteMatchesAnalyticProjection) {
     std::size_t hits = 0;
     for (std::size_t i = 0; i < image.hitMm.size() / 4; ++i) hits += image.hitMm[4 * i + 3] > 0.5f ? 1 : 0;
     const double areaRadiusPx = std::sqrt(static_cast<double>(hits) / kPi);
+    std::cout << "silhouette radius: expected " << expectedRadiusPx << " px, from area " << areaRadiusPx << " px\n";
     EXPECT_NEAR(areaRadiusPx, expectedRadiusPx, 1.0);
 
     const int row = size / 2;
@@ -101,6 +103,7 @@ TEST_F(IsoSurfaceRendering, BallHitDepthWithinQuarterVoxel) {
             worstMm = std::max(worstMm, std::abs(glm::length(p - spec.centreMm) - spec.radiusMm));
             ++hits;
         }
+        std::cout << "ball hit depth: worst " << worstMm << " mm over " << hits << " hits\n";
         EXPECT_GT(hits, 1000u);
         EXPECT_LT(worstMm, 0.25 * spec.grid.spacingMm.x) << "eye " << eye.x << "," << eye.y << "," << eye.z;
     }
@@ -130,6 +133,7 @@ TEST_F(IsoSurfaceRendering, TubeSeenFromInsideHitsTheCylinder) {
         worstMm = std::max(worstMm, std::abs(glm::length(p - spec.axisMm) - spec.radiusMm));
         ++hits;
     }
+    std::cout << "tube hit radius: worst " << worstMm << " mm over " << hits << " hits\n";
     EXPECT_GT(hits, 256u * 256u / 2u);  // the walls fill most of a 90 degree view down the tube
     EXPECT_LT(worstMm, 0.25 * 0.6);     // a quarter of the smallest voxel side
 }
