@@ -11,5 +11,6 @@ namespace app {
 void addRenderCommand(CLI::App& program);
 void addPhantomCommand(CLI::App& program);
 void addInfoCommand(CLI::App& program);
+void addBakeCommand(CLI::App& program);
 
 }  // namespace app

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     app::addRenderCommand(program);
     app::addPhantomCommand(program);
     app::addInfoCommand(program);
+    app::addBakeCommand(program);
 
     try {
         program.parse(argc, argv);
