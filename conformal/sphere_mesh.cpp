@@ -200,20 +200,28 @@ SphereMesh buildSphereMesh(const CaveBox& box, SphereDomain domain,
 MeshLocation locateDirection(const SphereMesh& sphere, const glm::dvec3& direction) {
     const glm::dvec3 halfSize = 0.5 * sphere.box.size;
     const glm::dvec3& centre = sphere.box.mapCentre;
-    // The face the ray leaves through: the smallest positive exit distance.
-    int normalAxis = 0;
+    // The face the ray leaves through: the smallest positive exit distance. On an edge of the
+    // box two faces tie; prefer one that is meshed, so Omega5's boundary stays in Omega5.
+    std::array<double, 3> exitAlong{};
     double exit = std::numeric_limits<double>::infinity();
     for (int axis = 0; axis < 3; ++axis) {
+        exitAlong[axis] = std::numeric_limits<double>::infinity();
         if (direction[axis] == 0.0) continue;
         const double bound = direction[axis] > 0.0 ? halfSize[axis] : -halfSize[axis];
-        const double t = (bound - centre[axis]) / direction[axis];
-        if (t < exit) {
-            exit = t;
-            normalAxis = axis;
-        }
+        exitAlong[axis] = (bound - centre[axis]) / direction[axis];
+        exit = std::min(exit, exitAlong[axis]);
     }
     MeshLocation location;
     if (!std::isfinite(exit)) return location;
+    int normalAxis = 0;
+    bool isChosen = false;
+    constexpr double kTie = 1e-12;
+    for (int axis = 0; axis < 3 && !isChosen; ++axis) {
+        if (!(exitAlong[axis] <= exit * (1.0 + kTie))) continue;
+        normalAxis = axis;
+        const int face = 2 * axis + (direction[axis] > 0.0 ? 0 : 1);
+        isChosen = sphere.cellTriangles[face].empty() || sphere.cellTriangles[face].front() >= 0;
+    }
     const int face = 2 * normalAxis + (direction[normalAxis] > 0.0 ? 0 : 1);
     const glm::dvec3 hit = centre + exit * direction;
     const int axisA = (normalAxis + 1) % 3;

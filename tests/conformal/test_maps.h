@@ -1,0 +1,29 @@
+/// @brief Small maps shared by the conformal tests, built once per test process.
+#pragma once
+
+#include "conformal/conformal_map.h"
+
+namespace conformal::testing {
+
+/// The conformal map of the 2.4 m cube at a small mesh resolution (a fraction of a second).
+inline const ConformalMap& cubeMap() {
+    static const ConformalMap map([] {
+        ConformalMapSettings settings;
+        settings.mesh.resolution = 48;
+        return settings;
+    }());
+    return map;
+}
+
+/// The same for the Immersive Cabin (not a cube: 2.95 x 2.21 x 2.95 m).
+inline const ConformalMap& cabinMap() {
+    static const ConformalMap map([] {
+        ConformalMapSettings settings;
+        settings.box = immersiveCabinBox();
+        settings.mesh.resolution = 48;
+        return settings;
+    }());
+    return map;
+}
+
+}  // namespace conformal::testing
