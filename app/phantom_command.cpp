@@ -1,4 +1,8 @@
-/// @brief `cvc phantom`: write a synthetic volume whose surfaces are known in closed form.
+/// @brief `cvc phantom`: write a synthetic volume whose geometry is known: a colon with folds
+/// and polyps (plus its ground-truth JSON), or the analytic ball and tube of the renderer tests.
+#include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -7,24 +11,74 @@
 #include "app/commands.h"
 #include "app/option_parsing.h"
 #include "volumes/analytic_phantom.h"
+#include "volumes/colon_phantom.h"
 #include "volumes/nrrd_io.h"
+#include "volumes/vdb_io.h"
 
 namespace app {
 namespace {
 
 struct PhantomOptions {
-    std::string kind = "ball";
+    std::string kind = "colon";
     std::string outPath = "phantom.nrrd";
-    int size = 128;
-    double spacingMm = 1.0;
+    std::string truthPath;  // colon only; default: the output path with .json
+    int size = 0;           // 0: the kind's default (colon 256, ball and tube 128)
+    double spacingMm = 0.0; // 0: the kind's default (colon 0.6 mm, ball and tube 1 mm)
+    std::vector<std::string> polyps;
+    double noiseSigmaHu = 15.0;
+    std::uint64_t seed = 1;
     bool force = false;
 };
 
+bool isVdbPath(const std::string& path) {
+    return std::filesystem::path(path).extension() == ".vdb";
+}
+
+void writeVolume(const volumes::Volume& volume, const std::string& path, bool force) {
+    if (isVdbPath(path)) {
+        volumes::writeVdb(volume, path, force);
+    } else {
+        volumes::writeNrrd(volume, path, force);
+    }
+}
+
+void runColon(const PhantomOptions& options) {
+    const std::string truthPath = options.truthPath.empty()
+                                      ? std::filesystem::path(options.outPath).replace_extension(".json").string()
+                                      : options.truthPath;
+    requireWritableOutput(truthPath, options.force);
+    volumes::ColonPhantomSpec spec;
+    const int size = options.size > 0 ? options.size : 256;
+    spec.grid = {{size, size, size}, glm::dvec3(options.spacingMm > 0.0 ? options.spacingMm : 0.6)};
+    spec.noiseSigmaHu = options.noiseSigmaHu;
+    spec.seed = options.seed;
+    if (!options.polyps.empty()) {
+        spec.polyps.clear();
+        for (const std::string& text : options.polyps) spec.polyps.push_back(volumes::parsePolypSpec(text));
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const volumes::ColonPhantom phantom = volumes::makeColonPhantom(spec);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    writeVolume(phantom.volume, options.outPath, options.force);
+    std::ofstream truth(truthPath, std::ios::trunc);
+    truth << volumes::colonTruthJson(spec, phantom);
+    if (!truth) throw volumes::VolumeError(truthPath + ": write failed");
+    std::cout << "wrote colon phantom " << size << "^3 at " << spec.grid.spacingMm.x << " mm with "
+              << phantom.polyps.size() << " polyps and " << phantom.foldArcLengthsMm.size() << " folds to "
+              << options.outPath << " (ground truth " << truthPath << "; built in " << seconds << " s)\n";
+}
+
 void runPhantom(const PhantomOptions& options) {
     requireWritableOutput(options.outPath, options.force);
-    volumes::GridSpec grid{{options.size, options.size, options.size}, glm::dvec3(options.spacingMm)};
-    const double centreMm = 0.5 * (options.size - 1) * options.spacingMm;
-    const double extentMm = options.size * options.spacingMm;
+    if (options.kind == "colon") {
+        runColon(options);
+        return;
+    }
+    const int size = options.size > 0 ? options.size : 128;
+    const double spacingMm = options.spacingMm > 0.0 ? options.spacingMm : 1.0;
+    volumes::GridSpec grid{{size, size, size}, glm::dvec3(spacingMm)};
+    const double centreMm = 0.5 * (size - 1) * spacingMm;
+    const double extentMm = size * spacingMm;
     volumes::Volume volume;
     if (options.kind == "ball") {
         volumes::BallSpec spec;
@@ -39,27 +93,35 @@ void runPhantom(const PhantomOptions& options) {
         spec.radiusMm = 0.25 * extentMm;
         volume = volumes::makeTubePhantom(spec);
     }
-    volumes::writeNrrd(volume, options.outPath, options.force);
-    std::cout << "wrote " << options.kind << " phantom " << options.size << "^3 at " << options.spacingMm
-              << " mm to " << options.outPath << '\n';
+    writeVolume(volume, options.outPath, options.force);
+    std::cout << "wrote " << options.kind << " phantom " << size << "^3 at " << spacingMm << " mm to "
+              << options.outPath << '\n';
 }
 
 }  // namespace
 
 void addPhantomCommand(CLI::App& program) {
     auto options = std::make_shared<PhantomOptions>();
-    CLI::App* command = program.add_subcommand("phantom", "Write a synthetic phantom volume");
-    command->add_option("--kind", options->kind, "ball (a solid ball) or tube (an air-filled tube)")
-        ->check(CLI::IsMember({"ball", "tube"}))
+    CLI::App* command = program.add_subcommand(
+        "phantom", "Write a synthetic phantom volume (.nrrd, or .vdb by extension); colon also writes its ground truth as JSON");
+    command->add_option("--kind", options->kind,
+                        "colon (curved tube with folds and polyps), ball (a solid ball) or tube (an air-filled straight tube)")
+        ->check(CLI::IsMember({"colon", "ball", "tube"}))
         ->capture_default_str();
-    command->add_option("-o,--out", options->outPath, "Output NRRD file")->capture_default_str();
-    command->add_option("--size", options->size, "Voxels along each axis")
-        ->check(CLI::Range(8, 1024))
+    command->add_option("-o,--out", options->outPath, "Output volume (.nrrd or .vdb)")->capture_default_str();
+    command->add_option("--truth", options->truthPath, "Colon ground-truth JSON (default: the output path with .json)");
+    command->add_option("--size", options->size, "Voxels along each axis (default: colon 256, ball and tube 128)")
+        ->check(CLI::Range(8, 1024));
+    command->add_option("--spacing", options->spacingMm, "Voxel spacing in mm (default: colon 0.6, ball and tube 1)")
+        ->check(CLI::Range(0.01, 10.0));
+    command->add_option("--polyp", options->polyps,
+                        "Colon polyp KIND:DIAMETER_MM:POSITION:ANGLE_DEG[:STALK_MM], KIND sessile or pedunculated, "
+                        "POSITION 0..1 along the colon; repeat for several (default: five polyps of 3 to 12 mm)");
+    command->add_option("--noise", options->noiseSigmaHu, "Colon CT noise, standard deviation in HU")
+        ->check(CLI::Range(0.0, 200.0))
         ->capture_default_str();
-    command->add_option("--spacing", options->spacingMm, "Voxel spacing in mm")
-        ->check(CLI::Range(0.01, 10.0))
-        ->capture_default_str();
-    command->add_flag("--force", options->force, "Replace an existing output file");
+    command->add_option("--seed", options->seed, "Colon noise seed")->capture_default_str();
+    command->add_flag("--force", options->force, "Replace existing output files");
     command->callback([options] { runPhantom(*options); });
 }
 

@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "conformal/mobius_alignment.h"
+#include "conformal/richardson_extrapolation.h"
 
 namespace conformal {
 
@@ -38,17 +39,47 @@ std::vector<Complex> diskOfSphere(const SphereMesh& sphere, const RicciFlowSetti
 ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(settings) {
     const auto start = std::chrono::steady_clock::now();
     validateCaveBox(settings.box);
+    auto buildSide = [&settings](SphereDomain domain, SphereMesh& sphere, std::vector<Complex>& disk,
+                                 RiemannMapReport* report) {
+        sphere = buildSphereMesh(settings.box, domain, settings.mesh);
+        disk = diskOfSphere(sphere, settings.flow, report);
+        if (settings.isExtrapolated) {
+            SphereMeshSettings coarseSettings = settings.mesh;
+            coarseSettings.coarsening = 2;
+            const SphereMesh coarse = buildSphereMesh(settings.box, domain, coarseSettings);
+            const std::vector<Complex> coarseDisk = diskOfSphere(coarse, settings.flow, nullptr);
+            disk = extrapolateFromCoarse(sphere, disk, coarse, coarseDisk);
+        }
+    };
     // The two sides are independent: mesh and flow them on two threads.
     auto sceneJob = std::async(std::launch::async, [&] {
-        mScene = buildSphereMesh(settings.box, SphereDomain::Scene, settings.mesh);
-        mSceneDisk = diskOfSphere(mScene, settings.flow, &mReport.scene);
+        buildSide(SphereDomain::Scene, mScene, mSceneDisk, &mReport.scene);
     });
-    mDisplay = buildSphereMesh(settings.box, SphereDomain::Display, settings.mesh);
-    mDisplayDisk = diskOfSphere(mDisplay, settings.flow, &mReport.display);
+    buildSide(SphereDomain::Display, mDisplay, mDisplayDisk, &mReport.display);
     sceneJob.get();
 
     mSceneLocator = DiskLocator(mSceneDisk, mScene.mesh.triangles);
     mDisplayLocator = DiskLocator(mDisplayDisk, mDisplay.mesh.triangles);
+    // Where the maps are not smooth: the ceiling corners on both sides, and the zenith's
+    // copies on the scene side (phi6 ~ r^2 there, so its inverse is a square root).
+    std::vector<char> isSceneSingular(mScene.mesh.positions.size(), 0);
+    std::vector<char> isDisplaySingular(mDisplay.mesh.positions.size(), 0);
+    for (int k = 0; k < 4; ++k) {
+        isSceneSingular[mScene.cornerVertices[k]] = 1;
+        isDisplaySingular[mDisplay.cornerVertices[k]] = 1;
+    }
+    const glm::dvec3 zenithDirection =
+        glm::normalize(glm::dvec3(0.0, 0.5 * settings.box.size.y, 0.0) - settings.box.mapCentre);
+    for (std::size_t v = 0; v < mScene.mesh.positions.size(); ++v) {
+        if (glm::length(mScene.mesh.positions[v] - zenithDirection) < 1e-12) isSceneSingular[v] = 1;
+    }
+    mIsSmooth = settings.interpolation == MeshInterpolation::HolomorphicQuadratic;
+    if (mIsSmooth) {
+        mSceneForward = SphereToPlaneInterpolant(mScene.mesh, mSceneDisk, isSceneSingular);
+        mDisplayForward = SphereToPlaneInterpolant(mDisplay.mesh, mDisplayDisk, isDisplaySingular);
+        mSceneInverse = PlaneToSphereInterpolant(mScene.mesh, mSceneDisk, isSceneSingular);
+        mDisplayInverse = PlaneToSphereInterpolant(mDisplay.mesh, mDisplayDisk, isDisplaySingular);
+    }
     const auto corners = ceilingCornerDirections(settings.box);
     const glm::dvec3 zenith(0.0, 1.0, 0.0);
     for (int k = 0; k < 4; ++k) {
@@ -70,6 +101,7 @@ Complex ConformalMap::diskFromDisplay(const glm::dvec3& display) const {
         throw std::domain_error("conformal map: the display direction is on the ceiling, "
                                 "outside Omega5");
     }
+    if (mIsSmooth) return mDisplayForward.evaluate(location.triangle, location.barycentric, display);
     const auto& tri = mDisplay.mesh.triangles[location.triangle];
     return location.barycentric.x * mDisplayDisk[tri[0]] +
            location.barycentric.y * mDisplayDisk[tri[1]] +
@@ -78,6 +110,7 @@ Complex ConformalMap::diskFromDisplay(const glm::dvec3& display) const {
 
 Complex ConformalMap::diskFromScene(const glm::dvec3& scene) const {
     const MeshLocation location = locateDirection(mScene, scene);
+    if (mIsSmooth) return mSceneForward.evaluate(location.triangle, location.barycentric, scene);
     const auto& tri = mScene.mesh.triangles[location.triangle];
     return location.barycentric.x * mSceneDisk[tri[0]] + location.barycentric.y * mSceneDisk[tri[1]] +
            location.barycentric.z * mSceneDisk[tri[2]];
@@ -86,6 +119,7 @@ Complex ConformalMap::diskFromScene(const glm::dvec3& scene) const {
 glm::dvec3 ConformalMap::sceneFromDisk(Complex zeta) const {
     const DiskLocation location = mSceneLocator.locate(zeta);
     if (location.triangle < 0) return glm::dvec3(std::numeric_limits<double>::quiet_NaN());
+    if (mIsSmooth) return mSceneInverse.evaluate(location.triangle, location.barycentric, zeta);
     const auto& tri = mScene.mesh.triangles[location.triangle];
     const auto& p = mScene.mesh.positions;
     return glm::normalize(location.barycentric.x * p[tri[0]] + location.barycentric.y * p[tri[1]] +
@@ -95,6 +129,7 @@ glm::dvec3 ConformalMap::sceneFromDisk(Complex zeta) const {
 glm::dvec3 ConformalMap::displayFromDisk(Complex zeta) const {
     const DiskLocation location = mDisplayLocator.locate(zeta);
     if (location.triangle < 0) return glm::dvec3(std::numeric_limits<double>::quiet_NaN());
+    if (mIsSmooth) return mDisplayInverse.evaluate(location.triangle, location.barycentric, zeta);
     const auto& tri = mDisplay.mesh.triangles[location.triangle];
     const auto& p = mDisplay.mesh.positions;
     return glm::normalize(location.barycentric.x * p[tri[0]] + location.barycentric.y * p[tri[1]] +
@@ -105,11 +140,7 @@ glm::dvec3 ConformalMap::sceneFromDisplay(const glm::dvec3& display) const {
     const glm::dvec3 d = glm::normalize(display);
     const MeshLocation location = locateDirection(mDisplay, d);
     if (location.triangle < 0) return ceilingExtension(d);
-    const auto& tri = mDisplay.mesh.triangles[location.triangle];
-    const Complex zeta = location.barycentric.x * mDisplayDisk[tri[0]] +
-                         location.barycentric.y * mDisplayDisk[tri[1]] +
-                         location.barycentric.z * mDisplayDisk[tri[2]];
-    return sceneFromDisk(zeta);
+    return sceneFromDisk(diskFromDisplay(d));
 }
 
 glm::dvec3 ConformalMap::displayFromScene(const glm::dvec3& scene) const {

@@ -8,15 +8,26 @@
 #include "conformal/cave_box.h"
 #include "conformal/direction_map.h"
 #include "conformal/disk_locator.h"
+#include "conformal/holomorphic_interpolation.h"
 #include "conformal/riemann_map.h"
 #include "conformal/sphere_mesh.h"
 
 namespace conformal {
 
+/// How the maps are evaluated between mesh vertices.
+enum class MeshInterpolation {
+    Barycentric,            ///< piecewise linear on the chord triangles
+    HolomorphicQuadratic,   ///< blended local holomorphic quadratics (see holomorphic_interpolation.h)
+};
+
 struct ConformalMapSettings {
     CaveBox box;
     SphereMeshSettings mesh;
     RicciFlowSettings flow;
+    MeshInterpolation interpolation = MeshInterpolation::HolomorphicQuadratic;
+    /// Also flow the half-resolution meshes and extrapolate the vertex values (Richardson),
+    /// which cancels the flow's O(h^2) discretisation error; costs about a quarter more.
+    bool isExtrapolated = true;
 };
 
 /// What building the map measured.
@@ -34,6 +45,9 @@ class ConformalMap final : public DirectionMap {
 public:
     /// Builds both meshes and runs both flows (in parallel). Throws on failure.
     explicit ConformalMap(const ConformalMapSettings& settings);
+    // The interpolants point into the meshes: the map stays where it was built.
+    ConformalMap(const ConformalMap&) = delete;
+    ConformalMap& operator=(const ConformalMap&) = delete;
 
     glm::dvec3 sceneFromDisplay(const glm::dvec3& display) const override;
     glm::dvec3 displayFromScene(const glm::dvec3& scene) const override;
@@ -64,6 +78,11 @@ private:
     std::vector<std::complex<double>> mDisplayDisk;
     DiskLocator mSceneLocator;
     DiskLocator mDisplayLocator;
+    SphereToPlaneInterpolant mSceneForward;     ///< phi6
+    SphereToPlaneInterpolant mDisplayForward;   ///< phi5
+    PlaneToSphereInterpolant mSceneInverse;     ///< phi6^-1
+    PlaneToSphereInterpolant mDisplayInverse;   ///< phi5^-1
+    bool mIsSmooth = true;
     std::array<glm::dvec3, 4> mEdgeNormals{};  ///< outward normals of the ceiling edges' planes
     ConformalMapReport mReport;
 };

@@ -10,6 +10,11 @@
 #include <string>
 #include <unordered_set>
 
+#include <Eigen/Dense>
+#include <glm/geometric.hpp>
+
+#include "conformal/holomorphic_interpolation.h"
+
 namespace conformal {
 
 namespace {
@@ -41,45 +46,118 @@ void vertexNeighbours(const TriangleMesh& mesh, std::vector<int>& offsets,
     }
 }
 
+constexpr double kFilledSpacings = 3.0;   // replaced by the fit inside this
+constexpr double kBlendedSpacings = 8.0;  // blended smoothly out to this
+constexpr double kFittedSpacings = 12.0;  // fitted out to this
+
+double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+double meanNeighbourAngle(const TriangleMesh& mesh, int vertex) {
+    double sum = 0.0;
+    int count = 0;
+    for (const auto& tri : mesh.triangles) {
+        for (int k = 0; k < 3; ++k) {
+            if (tri[k] != vertex) continue;
+            sum += angleBetween(mesh.positions[vertex], mesh.positions[tri[(k + 1) % 3]]);
+            ++count;
+        }
+    }
+    if (count == 0) {
+        throw std::runtime_error("Riemann map: centre vertex " + std::to_string(vertex) +
+                                 " belongs to no triangle");
+    }
+    return sum / count;
+}
+
+/// The annulus map sends the hole's rim to a circle, which the Riemann map does not quite do,
+/// and the flat cylinder's metric varies fastest next to the rim, where the discretisation is
+/// least accurate. Both errors are holomorphic near the hole and fade away from it: the values
+/// within angle `filled` of the centre are replaced by a holomorphic polynomial in the centre's
+/// stereographic chart, fitted by least squares to the values from `filled` out to `fitted`,
+/// and blended into the computed values with a smooth step between `filled` and `blended` (a
+/// sharp switch would leave a kink that the distortion measure sees).
+void fillHole(const TriangleMesh& mesh, const glm::dvec3& centre, double filled, double blended,
+              double fitted, const std::vector<char>& isHole, std::vector<Complex>& disk) {
+    constexpr int kMaxDegree = 8;
+    const SphereChart chart(centre);
+    const double scale = std::tan(0.5 * fitted);  // chart radius of the fitted zone's edge
+    std::vector<int> filledVertices;
+    std::vector<Complex> samplePoints;
+    std::vector<Complex> sampleValues;
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        const double angle = angleBetween(centre, mesh.positions[v]);
+        if (angle < blended) filledVertices.push_back(static_cast<int>(v));
+        if (angle >= filled && angle < fitted && !isHole[v]) {
+            samplePoints.push_back(chart.chartFromDirection(mesh.positions[v]) / scale);
+            sampleValues.push_back(disk[v]);
+        }
+    }
+    // Four samples per coefficient at least; a coarse mesh gets a lower degree.
+    const int degree = std::min(kMaxDegree, static_cast<int>(samplePoints.size()) / 4 - 1);
+    if (degree < 1) return;
+    Eigen::MatrixXcd normal = Eigen::MatrixXcd::Zero(degree + 1, degree + 1);
+    Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(degree + 1);
+    Eigen::VectorXcd powers(degree + 1);
+    for (std::size_t k = 0; k < samplePoints.size(); ++k) {
+        powers[0] = 1.0;
+        for (int p = 1; p <= degree; ++p) powers[p] = powers[p - 1] * samplePoints[k];
+        normal += powers.conjugate() * powers.transpose();
+        rhs += powers.conjugate() * sampleValues[k];
+    }
+    const Eigen::VectorXcd coefficients = normal.ldlt().solve(rhs);
+    if (!coefficients.allFinite()) return;
+    for (const int v : filledVertices) {
+        const Complex x = chart.chartFromDirection(mesh.positions[v]) / scale;
+        Complex value(0.0);
+        for (int k = degree; k >= 0; --k) value = value * x + coefficients[k];
+        const double angle = angleBetween(centre, mesh.positions[v]);
+        const double t = std::clamp((angle - filled) / (blended - filled), 0.0, 1.0);
+        const double weight = isHole[v] ? 1.0 : 1.0 - t * t * (3.0 - 2.0 * t);
+        disk[v] = weight * value + (1.0 - weight) * disk[v];
+    }
+}
+
 }  // namespace
 
 std::vector<Complex> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
-                                  const RicciFlowSettings& settings, RiemannMapReport* report) {
+                                  const RicciFlowSettings& settings, RiemannMapReport* report,
+                                  double holeAngle) {
     const int vertexCount = static_cast<int>(mesh.positions.size());
     if (centreVertex < 0 || centreVertex >= vertexCount) {
         throw std::runtime_error("Riemann map: centre vertex " + std::to_string(centreVertex) +
                                  " is not a vertex of the mesh");
     }
 
-    // Punch the hole: drop the centre's star, keep the other vertices' indices.
-    TriangleMesh punched;
-    punched.positions = mesh.positions;
-    punched.triangles.reserve(mesh.triangles.size());
-    for (const auto& tri : mesh.triangles) {
-        if (tri[0] != centreVertex && tri[1] != centreVertex && tri[2] != centreVertex) {
-            punched.triangles.push_back(tri);
-        }
-    }
-    if (punched.triangles.size() == mesh.triangles.size()) {
-        throw std::runtime_error("Riemann map: centre vertex " + std::to_string(centreVertex) +
-                                 " belongs to no triangle");
+    // Punch the hole: the vertices within holeAngle of the centre (at least the centre).
+    const glm::dvec3 centre = glm::normalize(mesh.positions[centreVertex]);
+    const double spacing = meanNeighbourAngle(mesh, centreVertex);
+    const double holeRadians = std::max(holeAngle, 0.0);
+    std::vector<char> isHole(vertexCount, 0);
+    for (int v = 0; v < vertexCount; ++v) {
+        isHole[v] = v == centreVertex || angleBetween(centre, mesh.positions[v]) < holeRadians;
     }
     std::vector<char> isHoleRing(vertexCount, 0);
+    TriangleMesh punched;
+    punched.triangles.reserve(mesh.triangles.size());
     for (const auto& tri : mesh.triangles) {
-        if (tri[0] == centreVertex || tri[1] == centreVertex || tri[2] == centreVertex) {
-            for (int v : tri) {
-                if (v != centreVertex) isHoleRing[v] = 1;
+        const bool touchesHole = isHole[tri[0]] || isHole[tri[1]] || isHole[tri[2]];
+        if (!touchesHole) {
+            punched.triangles.push_back(tri);
+        } else {
+            for (const int v : tri) {
+                if (!isHole[v]) isHoleRing[v] = 1;
             }
         }
     }
-    // The centre vertex is isolated now; keep it out of the flow by giving it no triangles
-    // (its curvature target is irrelevant, and it is pinned if chosen, so drop it instead).
+    // Hole vertices leave the flow's mesh; the others keep their order.
     TriangleMesh flowMesh;
     std::vector<int> flowIndex(vertexCount, -1);
     std::vector<int> originalIndex;
     originalIndex.reserve(vertexCount);
     for (int v = 0; v < vertexCount; ++v) {
-        if (v == centreVertex) continue;
+        if (isHole[v]) continue;
         flowIndex[v] = static_cast<int>(originalIndex.size());
         originalIndex.push_back(v);
         flowMesh.positions.push_back(mesh.positions[v]);
@@ -245,7 +323,7 @@ std::vector<Complex> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
     double innerRadiusSum = 0.0;
     for (int v = 0; v < vertexCount; ++v) {
         if (copies[v] > 0) disk[v] /= static_cast<double>(copies[v]);
-        if (v == centreVertex) continue;
+        if (isHole[v]) continue;
         const int f = flowIndex[v];
         if (isBoundary[f] && !isInner[f]) {
             out.outerRadiusError = std::max(out.outerRadiusError, std::abs(std::abs(disk[v]) - 1.0));
@@ -257,6 +335,9 @@ std::vector<Complex> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
     for (int v = 0; v < flowCount; ++v) ringCount += isInner[v];
     out.innerRadius = innerRadiusSum / std::max(ringCount, 1);
     disk[centreVertex] = Complex(0.0, 0.0);
+    fillHole(mesh, centre, std::max(kFilledSpacings * spacing, 1.5 * holeRadians),
+             std::max(kBlendedSpacings * spacing, 2.5 * holeRadians),
+             std::max(kFittedSpacings * spacing, 3.0 * holeRadians), isHole, disk);
     return disk;
 }
 

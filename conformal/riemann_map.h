@@ -19,15 +19,20 @@ struct RiemannMapReport {
 };
 
 /// Maps the vertices of `mesh` (a triangulated topological disk, CCW seen from outside) to the
-/// closed unit disk conformally, with `centreVertex` (interior) sent to 0 and the rotation left
-/// free. The star of `centreVertex` is removed; the remaining annulus gets, by Ricci flow,
+/// closed unit disk conformally, with `centreVertex` (interior) sent to about 0 and the rotation
+/// left free. A round hole around `centreVertex` is removed; the remaining annulus gets, by Ricci flow,
 /// the flat metric with zero curvature everywhere (both boundaries geodesic), so it is a flat
 /// cylinder; it is cut along a shortest edge path between its boundaries, laid out in the
 /// plane (a strip, periodic by a translation T), scaled by 2 pi i / T and mapped by exp onto an
-/// annulus whose outer circle is the unit circle; the hole's centre goes to 0.
+/// annulus whose outer circle is the unit circle. The hole is filled by a holomorphic
+/// polynomial (in the centre's stereographic chart, so `mesh` must lie on the unit sphere)
+/// fitted to the rings around it, which also removes the rim's forced roundness.
 /// Returns #V disk positions. Throws RicciFlowError or std::runtime_error on failure.
+/// `holeAngle` is the hole's angular radius (radians) around the centre on the unit sphere:
+/// 0 (the default) removes just the centre's star.
 std::vector<std::complex<double>> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
                                                const RicciFlowSettings& settings,
-                                               RiemannMapReport* report = nullptr);
+                                               RiemannMapReport* report = nullptr,
+                                               double holeAngle = 0.0);
 
 }  // namespace conformal

@@ -19,10 +19,11 @@ namespace {
 
 constexpr int kCeilingFace = 2;  // +Y in Vulkan face order
 
-int evenSegmentCount(double fraction, int resolution) {
-    int count = static_cast<int>(std::lround(fraction * resolution));
-    count = std::max(count, 2);
-    return count + (count % 2);
+/// Multiples of 4, so that the mesh and its half-resolution companion both have even counts
+/// (a vertex at each face's centre).
+int segmentCount(double fraction, int resolution, int coarsening) {
+    const int quarter = std::max(1, static_cast<int>(std::lround(fraction * resolution / 4.0)));
+    return 4 * quarter / coarsening;
 }
 
 /// Grid lines on [-extent/2, extent/2], graded toward both ends with exponent p.
@@ -40,16 +41,14 @@ std::vector<double> gradedGridLines(double extent, int segments, double grading)
     return lines;
 }
 
-/// The ceiling sector of a point on the ceiling (x, z normalised by the half sizes): the
-/// triangle (zenith, corner k, corner k + 1), whose base is the ceiling edge k.
-int ceilingSector(double x, double z) {
+}  // namespace
+
+int ceilingSectorOf(double x, double z) {
     if (z >= std::abs(x)) return 0;
     if (x <= -std::abs(z)) return 1;
     if (z <= -std::abs(x)) return 2;
     return 3;
 }
-
-}  // namespace
 
 glm::dvec3 chordBarycentric(const glm::dvec3& direction, const glm::dvec3& a, const glm::dvec3& b,
                             const glm::dvec3& c) {
@@ -70,6 +69,10 @@ SphereMesh buildSphereMesh(const CaveBox& box, SphereDomain domain,
                                     std::to_string(settings.resolution) +
                                     " is outside [2, 8192]");
     }
+    if (settings.coarsening != 1 && settings.coarsening != 2) {
+        throw std::invalid_argument("sphere mesh: coarsening " + std::to_string(settings.coarsening) +
+                                    " is not 1 or 2");
+    }
     if (!(settings.grading >= 1.0 && settings.grading <= 8.0)) {
         throw std::invalid_argument("sphere mesh: grading " + std::to_string(settings.grading) +
                                     " is outside [1, 8]");
@@ -81,9 +84,10 @@ SphereMesh buildSphereMesh(const CaveBox& box, SphereDomain domain,
     const double longest = std::max({box.size.x, box.size.y, box.size.z});
     // x and z share one segment count and one normalised grading, so that the ceiling's grid
     // has its diagonals' points as vertices even when the ceiling is not square.
-    const int horizontalSegments =
-        evenSegmentCount(std::max(box.size.x, box.size.z) / longest, settings.resolution);
-    const int verticalSegments = evenSegmentCount(box.size.y / longest, settings.resolution);
+    const int horizontalSegments = segmentCount(std::max(box.size.x, box.size.z) / longest,
+                                                settings.resolution, settings.coarsening);
+    const int verticalSegments =
+        segmentCount(box.size.y / longest, settings.resolution, settings.coarsening);
     sphere.gridLines[0] = gradedGridLines(box.size.x, horizontalSegments, settings.grading);
     sphere.gridLines[1] = gradedGridLines(box.size.y, verticalSegments, settings.grading);
     sphere.gridLines[2] = gradedGridLines(box.size.z, horizontalSegments, settings.grading);
@@ -106,6 +110,7 @@ SphereMesh buildSphereMesh(const CaveBox& box, SphereDomain domain,
                                    sphere.gridLines[2][lattice[2]]);
             sphere.mesh.positions.push_back(glm::normalize(point - box.mapCentre));
             sphere.slitSector.push_back(sector);
+            sphere.lattice.push_back(lattice);
         }
         return it->second;
     };
@@ -153,7 +158,7 @@ SphereMesh buildSphereMesh(const CaveBox& box, SphereDomain domain,
                             sumA += ia + corner[0] - half;
                             sumB += ib + corner[1] - half;
                         }
-                        sector = ceilingSector(sumB, sumA);
+                        sector = ceilingSectorOf(sumB, sumA);
                     }
                     std::array<int, 3> triangle{};
                     for (int c = 0; c < 3; ++c) {

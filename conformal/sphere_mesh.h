@@ -20,12 +20,15 @@ enum class SphereDomain {
 };
 
 struct SphereMeshSettings {
-    /// Grid segments along the longest box edge; the others get proportionally many (even
-    /// counts, at least 2). Vertices: about 6 resolution^2 for a cube.
+    /// Grid segments along the longest box edge; the others get proportionally many (counts
+    /// rounded to multiples of 4, at least 4). Vertices: about 6 resolution^2 for a cube.
     int resolution = 128;
     /// Grading exponent p >= 1 of the grid lines toward the box edges and hence the corners,
     /// where the maps are singular: t -> t^p / (t^p + (1 - t)^p). 1 is a uniform grid.
     double grading = 1.0;
+    /// 1 for the mesh itself; 2 for its coarse companion with every other grid line (the
+    /// same lines, so its vertices are a subset), used for Richardson extrapolation.
+    int coarsening = 1;
 };
 
 /// A mesh of unit directions (CAVE space, seen from the box's map centre), triangles
@@ -42,12 +45,18 @@ struct SphereMesh {
     /// For Omega6, the ceiling sector k (triangle zenith, corner k, corner k + 1) that owns each
     /// copy of a vertex on the slit; -1 for every other vertex.
     std::vector<int> slitSector;
+    /// Per vertex, its grid-line indices (ix, iy, iz) on the box's lattice.
+    std::vector<std::array<int, 3>> lattice;
     /// Grid lines along x, y, z in CAVE-space metres (box centred at the origin).
     std::array<std::vector<double>, 3> gridLines;
     /// Per face (Vulkan order +X, -X, +Y, -Y, +Z, -Z), two triangle indices per grid cell, or -1
     /// where the face is not meshed (the ceiling of Omega5).
     std::array<std::vector<int>, 6> cellTriangles;
 };
+
+/// The ceiling sector of a ceiling point with x, z in units of the half width and half depth:
+/// k such that the point lies in the triangle (zenith, corner k, corner k + 1).
+int ceilingSectorOf(double x, double z);
 
 /// Builds the mesh of `domain` for `box`. Throws std::invalid_argument on bad settings.
 SphereMesh buildSphereMesh(const CaveBox& box, SphereDomain domain,

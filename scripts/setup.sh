@@ -13,7 +13,7 @@ packages=(
   glslang-tools spirv-tools
   libglm-dev libeigen3-dev libcli11-dev nlohmann-json3-dev
   libpng-dev zlib1g-dev
-  libopenvdb-dev libtbb-dev
+  libopenvdb-dev libtbb-dev libboost-iostreams-dev
   libgdcm-dev libgdcm-tools libnifti2-dev
   libgtest-dev googletest
   clang libclang-rt-14-dev

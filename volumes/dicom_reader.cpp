@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -136,13 +137,16 @@ double sortAndCheckSlices(const std::string& folder, std::vector<SliceFile>& sli
 
     const double spanMm = slices.back().distanceMm - slices.front().distanceMm;
     const double spacingMm = spanMm / static_cast<double>(slices.size() - 1);
+    // Duplicates first: they would otherwise read as uneven spacing.
     for (std::size_t k = 1; k < slices.size(); ++k) {
-        const double gap = slices[k].distanceMm - slices[k - 1].distanceMm;
-        if (gap < 1e-3) {
+        if (slices[k].distanceMm - slices[k - 1].distanceMm < 1e-3) {
             fail(folder, slices[k - 1].path + " and " + slices[k].path +
                              " lie at the same position along the slice normal (several acquisitions in one "
                              "series? pass the series or split the folder)");
         }
+    }
+    for (std::size_t k = 1; k < slices.size(); ++k) {
+        const double gap = slices[k].distanceMm - slices[k - 1].distanceMm;
         if (std::abs(gap - spacingMm) > kGapTolerance * spacingMm) {
             std::ostringstream msg;
             msg << "uneven slice spacing: " << gap << " mm between " << slices[k - 1].path << " and "
@@ -210,9 +214,23 @@ void maskStoredBits(const gdcm::PixelFormat& pixel, ScalarType type, std::vector
     }
 }
 
+/// Reads one file. GDCM accepts a file whose native pixel data end early (it only warns), so
+/// its warnings are captured while reading and that one is turned into an error.
 void readImage(const std::string& path, gdcm::ImageReader& reader) {
+    std::ostringstream warnings;
+    gdcm::Trace::SetWarningStream(warnings);
+    gdcm::Trace::SetWarning(true);
+    struct Restore {
+        ~Restore() {
+            gdcm::Trace::SetWarning(false);
+            gdcm::Trace::SetWarningStream(std::cerr);
+        }
+    } restore;
     reader.SetFileName(path.c_str());
     if (!reader.Read()) fail(path, "GDCM cannot read it as a DICOM image (corrupt or truncated?)");
+    if (warnings.str().find("Incomplete Pixel Data") != std::string::npos) {
+        fail(path, "pixel data are truncated (the file ends before the image does)");
+    }
 }
 
 }  // namespace
