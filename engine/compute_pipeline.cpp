@@ -7,7 +7,7 @@ namespace engine {
 
 ComputePipeline::ComputePipeline(const GpuContext& context, std::span<const uint32_t> spirv,
                                  const std::vector<vk::DescriptorType>& bindings, uint32_t pushConstantBytes,
-                                 const std::string& debugName)
+                                 const std::string& debugName, std::span<const int32_t> specialization)
     : mContext(&context),
       mBindingTypes(bindings),
       mPushConstantBytes(pushConstantBytes),
@@ -25,7 +25,12 @@ ComputePipeline::ComputePipeline(const GpuContext& context, std::span<const uint
     if (pushConstantBytes > 0) layoutInfo.setPushConstantRanges(pushRange);
     mPipelineLayout = vk::raii::PipelineLayout(context.device(), layoutInfo);
 
-    vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *mShader, "main");
+    std::vector<vk::SpecializationMapEntry> entries;
+    for (uint32_t i = 0; i < specialization.size(); ++i) entries.emplace_back(i, i * 4u, 4u);
+    const vk::SpecializationInfo specializationInfo(static_cast<uint32_t>(entries.size()), entries.data(),
+                                                    specialization.size_bytes(), specialization.data());
+    vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *mShader, "main",
+                                            specialization.empty() ? nullptr : &specializationInfo);
     mPipeline = vk::raii::Pipeline(context.device(), nullptr, vk::ComputePipelineCreateInfo({}, stage, *mPipelineLayout));
     context.setDebugName(mPipeline, debugName);
 

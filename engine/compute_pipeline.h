@@ -14,10 +14,11 @@ namespace engine {
 
 class ComputePipeline {
 public:
-    /// `bindings` lists the descriptor type of binding 0, 1, 2, ... in order.
+    /// `bindings` lists the descriptor type of binding 0, 1, 2, ... in order;
+    /// `specialization[i]` is the value of the shader's 32-bit constant_id i.
     ComputePipeline(const GpuContext& context, std::span<const uint32_t> spirv,
                     const std::vector<vk::DescriptorType>& bindings, uint32_t pushConstantBytes,
-                    const std::string& debugName);
+                    const std::string& debugName, std::span<const int32_t> specialization = {});
 
     void bindBuffer(uint32_t binding, const GpuBuffer& buffer);
     void bindStorageImage(uint32_t binding, const GpuImage& image);

@@ -38,7 +38,7 @@ void expectOneLineError(const testing_support::ProgramRun& run, const std::strin
 
 TEST(CliErrors, MissingVolumeFile) {
     const auto run = runCvc("render " + tmp("does_not_exist.nrrd").string() + " -o " + tmp("x.png").string() + " --force");
-    expectOneLineError(run, "does_not_exist.nrrd: cannot open file");
+    expectOneLineError(run, "does_not_exist.nrrd: no such file or folder");
 }
 
 TEST(CliErrors, TruncatedNrrd) {

@@ -1,0 +1,48 @@
+/// @brief 1D transfer functions (HU -> colour and opacity) for composite rendering: presets
+/// for colon CT, the table the shader samples, and the opacity table empty-space skipping uses.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "volumes/brick_minmax.h"
+
+namespace engine {
+
+/// A piecewise-linear transfer function: control points sorted by HU; colour is linear RGB,
+/// opacity is per reference step (1 mm) and is corrected in the shader for the actual step.
+struct TransferFunction {
+    struct Point {
+        double hu;
+        glm::vec3 color;
+        float opacity;
+    };
+    std::string name;
+    std::vector<Point> points;
+};
+
+/// Names of the presets: "colon-wall" (the mucosa seen from the air-filled lumen, the
+/// standard look of CT colonography fly-throughs), "soft-tissue", "bone".
+std::vector<std::string> transferFunctionPresetNames();
+
+/// The preset called `name`; throws std::invalid_argument listing the names otherwise.
+TransferFunction transferFunctionPreset(const std::string& name);
+
+/// The table uploaded to the device: `entries` RGBA values evenly spaced over
+/// [firstHu, lastHu], the first and last covering everything beyond (clamp to edge).
+struct TransferTable {
+    double firstHu = -1024.0;
+    double lastHu = 3071.0;
+    std::vector<glm::vec4> rgba;
+};
+
+/// Samples `function` into a table; throws std::invalid_argument for unsorted or empty points
+/// or opacities outside [0, 1].
+TransferTable tabulate(const TransferFunction& function, int entries = 1024);
+
+/// The table's opacities in the form brick selection takes (volumes::bricksForOpacity).
+volumes::OpacityTable opacityTableOf(const TransferTable& table);
+
+}  // namespace engine

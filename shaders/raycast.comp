@@ -1,0 +1,223 @@
+#version 450
+// The ray caster: one thread per pixel of one wall (or pinhole image) for one eye. A ray is
+// built from the eye through the pixel's point on the wall, optionally bent through the
+// conformal map, then marched through the volume in iso-surface mode (first crossing of an
+// iso value, refined by bisection) or composite mode (transfer function, front-to-back
+// blending, early termination). Writes the colour and, on request, the first-hit position.
+#extension GL_GOOGLE_include_directive : require
+
+#include "host_device.h"
+
+layout(local_size_x = CVC_TILE_SIZE, local_size_y = CVC_TILE_SIZE) in;
+
+layout(constant_id = CVC_SPEC_MODE) const int kMode = CVC_MODE_ISO;
+layout(constant_id = CVC_SPEC_FILTER) const int kFilter = CVC_FILTER_TRILINEAR;
+layout(constant_id = CVC_SPEC_WARP) const int kWarp = CVC_WARP_NONE;
+layout(constant_id = CVC_SPEC_SKIPPING) const bool kSkipping = false;
+layout(constant_id = CVC_SPEC_ADAPTIVE) const bool kAdaptive = false;
+
+layout(std140, binding = CVC_BINDING_UNIFORMS) uniform Uniforms { RaycastUniforms u; };
+layout(binding = CVC_BINDING_VOLUME) uniform sampler3D volumeTexture;
+layout(binding = CVC_BINDING_COLOR_IMAGE, rgba8) uniform writeonly image2D colorImage;
+layout(binding = CVC_BINDING_HIT_IMAGE, rgba32f) uniform writeonly image2D hitImage;
+layout(binding = CVC_BINDING_BRICKS) uniform usampler3D brickOccupancy;
+layout(binding = CVC_BINDING_TRANSFER_FUNCTION) uniform sampler2D transferFunction;
+layout(binding = CVC_BINDING_CUBE_MAP) uniform samplerCube cubeMap;
+
+#include "ray_box.glsl"
+#include "ray_generation.glsl"
+#include "jitter.glsl"
+#include "volume_sampling.glsl"
+#include "empty_space.glsl"
+#include "transfer_function.glsl"
+#include "cook_torrance.glsl"
+
+const vec3 kBackground = vec3(0.015, 0.017, 0.022);
+const vec3 kSurfaceColor = vec3(0.93, 0.60, 0.50);  // iso-surface albedo, a mucosa tone
+
+// The straight segment a ray marches: origin + t * dir for t in [tStart, tEnd]. In exact-warp
+// mode it is the undistorted ray, and every sample point is mapped through W.
+struct Segment {
+    vec3 origin;
+    vec3 dir;
+    float tStart;
+    float tEnd;
+    float eyeDistance;  // distance from the eye to origin + tStart * dir, minus tStart
+    float localScale;   // the map's local scale along this pixel's display direction
+};
+
+Segment segmentForPixel(uvec2 pixel) {
+    vec3 eye = u.eyeMm.xyz;
+    vec3 wallPoint = wallPointMm(pixel);
+    vec3 dir = normalize(wallPoint - eye);
+    // The near plane is parallel to the wall, u.eyeMm.w in front of the eye.
+    float tNear = u.eyeMm.w / max(dot(dir, u.wallNormal.xyz), 1e-3);
+
+    Segment s;
+    s.localScale = 1.0;
+    s.eyeDistance = 0.0;
+    if (kWarp == CVC_WARP_NONE) {
+        vec2 span = intersectBox(eye, dir, u.boxMinMm.xyz, u.boxMaxMm.xyz);
+        s.origin = eye;
+        s.dir = dir;
+        s.tStart = max(span.x, tNear);
+        s.tEnd = span.y;
+        return s;
+    }
+    // The far point lies beyond the farthest box corner as seen from the map centre, so the
+    // bent ray reaches the far side of the box whichever way the map turns it.
+    vec3 c = u.mapCentreMm.xyz;
+    vec3 farCorner = max(abs(u.boxMinMm.xyz - c), abs(u.boxMaxMm.xyz - c));
+    float tFar = length(farCorner) + length(eye - c) + tNear;
+    s.localScale = sceneFromDisplay(normalize(wallPoint - c)).w;
+    if (kWarp == CVC_WARP_EXACT) {
+        s.origin = eye;
+        s.dir = dir;
+        s.tStart = tNear;
+        s.tEnd = tFar;
+        return s;
+    }
+    // Chord mode (paper Eq. 7): map the near and far points, march the chord between them.
+    vec3 a = warpPoint(eye + tNear * dir);
+    vec3 b = warpPoint(eye + tFar * dir);
+    float chordLength = length(b - a);
+    s.origin = a;
+    s.dir = chordLength > 1e-6 ? (b - a) / chordLength : dir;
+    vec2 span = intersectBox(a, s.dir, u.boxMinMm.xyz, u.boxMaxMm.xyz);
+    s.tStart = max(span.x, 0.0);
+    s.tEnd = min(span.y, chordLength);
+    s.eyeDistance = tNear;
+    return s;
+}
+
+vec3 pointAt(Segment s, float t) {
+    vec3 p = s.origin + t * s.dir;
+    return kWarp == CVC_WARP_EXACT ? warpPoint(p) : p;
+}
+
+// HU at ray parameter t; points an exact-warped ray bends outside the box read as air.
+float valueAt(Segment s, float t) {
+    vec3 p = pointAt(s, t);
+    if (kWarp == CVC_WARP_EXACT && !isInsideBox(p)) return -32768.0;
+    return sampleHu(p);
+}
+
+float minSpacingMm() {
+    vec3 spacing = 1.0 / u.invSpacingMm.xyz;
+    return min(min(spacing.x, spacing.y), spacing.z);
+}
+
+// Step length at t: the base step, lengthened where one pixel covers more than a voxel (far
+// away, or where the map compresses the scene), within [min step, max step].
+float stepAt(Segment s, float t) {
+    if (!kAdaptive) return u.march.x;
+    float footprintMm = (t + s.eyeDistance) * u.adaptive.z * s.localScale;
+    return clamp(u.march.x * max(1.0, footprintMm / minSpacingMm()), u.adaptive.x, u.adaptive.y);
+}
+
+// Moves t past the empty brick that contains it when skipping is on; returns true if it did.
+// With a fixed step the new t stays on the grid of t's that an unskipped ray visits, so the
+// image does not change; tPrev becomes the grid point before it, which lies in empty space.
+bool skipEmptyBrick(Segment s, vec3 invDir, inout ivec3 currentBrick, inout bool isOccupied,
+                    inout float t, inout float tPrev) {
+    if (!kSkipping || kWarp == CVC_WARP_EXACT) return false;
+    ivec3 brick = brickOf(s.origin + t * s.dir);
+    if (brick != currentBrick) {
+        currentBrick = brick;
+        isOccupied = isBrickOccupied(brick);
+    }
+    if (isOccupied) return false;
+    float step = stepAt(s, t);
+    float stepsToExit = max(1.0, ceil((brickExitT(s.origin, invDir, brick) - t) / step));
+    t += stepsToExit * step;
+    tPrev = t - step;
+    return true;
+}
+
+vec3 normalAt(vec3 p, vec3 towardEye) {
+    vec3 g = gradientHu(p);
+    float gLength = length(g);
+    return gLength > 1e-6 ? -g / gLength : towardEye;
+}
+
+void main() {
+    uvec2 pixel = gl_GlobalInvocationID.xy;
+    if (pixel.x >= u.frame.x || pixel.y >= u.frame.y) return;
+
+    Segment s = segmentForPixel(pixel);
+    // Fraction of a step by which the first sample is offset; 0 without jitter.
+    float jitter = (u.frame.w & CVC_FLAG_JITTER) != 0u ? jitterFraction(pixel, u.frame.z) : 0.0;
+    vec3 invDir = safeInverse(s.dir);
+    int maxSteps = int(u.march.w);
+    float iso = u.march.y;
+
+    vec3 color = kBackground;
+    vec4 hit = vec4(0.0);
+    if (s.tStart < s.tEnd) {
+        ivec3 currentBrick = ivec3(-2147483647);
+        bool isOccupied = true;
+        float tPrev = s.tStart;
+        float t = s.tStart;
+        if (kMode == CVC_MODE_ISO) {
+            bool isHit = valueAt(s, t) >= iso;  // the ray starts inside matter: hit where it enters
+            float tHit = t;
+            t += (jitter > 0.0 ? jitter : 1.0) * stepAt(s, t);  // tStart itself was just sampled
+            for (int i = 0; i < maxSteps && !isHit && t <= s.tEnd; ++i) {
+                if (skipEmptyBrick(s, invDir, currentBrick, isOccupied, t, tPrev)) continue;
+                float value = valueAt(s, t);
+                if (value >= iso) {
+                    // The crossing lies in (tPrev, t]: bisect, keeping lo below and hi at or
+                    // above the iso value, then interpolate linearly between them.
+                    float lo = tPrev, hi = t;
+                    int refinementSteps = int(u.march.z);
+                    if (refinementSteps > 0) {
+                        for (int b = 0; b < refinementSteps; ++b) {
+                            float mid = 0.5 * (lo + hi);
+                            if (valueAt(s, mid) >= iso) hi = mid; else lo = mid;
+                        }
+                        float vLo = valueAt(s, lo);
+                        float vHi = valueAt(s, hi);
+                        float f = vHi > vLo ? clamp((iso - vLo) / (vHi - vLo), 0.0, 1.0) : 1.0;
+                        tHit = mix(lo, hi, f);
+                    } else {
+                        tHit = hi;
+                    }
+                    isHit = true;
+                }
+                tPrev = t;
+                t += stepAt(s, t);
+            }
+            if (isHit) {
+                vec3 p = pointAt(s, tHit);
+                vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm.xyz - p) : -s.dir;
+                color = shadeCookTorrance(normalAt(p, towardEye), towardEye, tHit + s.eyeDistance, kSurfaceColor);
+                hit = vec4(p, 1.0);
+            }
+        } else {
+            // Composite: front-to-back "over" blending of classified, shaded samples.
+            vec4 accumulated = vec4(0.0);
+            t += jitter * stepAt(s, t);
+            for (int i = 0; i < maxSteps && t <= s.tEnd; ++i) {
+                if (skipEmptyBrick(s, invDir, currentBrick, isOccupied, t, tPrev)) continue;
+                float step = stepAt(s, t);
+                vec3 p = pointAt(s, t);
+                vec4 sampleColor = classify(valueAt(s, t), step);
+                if (sampleColor.a > 1.0 / 1024.0) {
+                    // Gradients only for samples that contribute.
+                    vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm.xyz - p) : -s.dir;
+                    vec3 shaded = shadeCookTorrance(normalAt(p, towardEye), towardEye, t + s.eyeDistance,
+                                                    sampleColor.rgb);
+                    accumulated.rgb += (1.0 - accumulated.a) * sampleColor.a * shaded;
+                    accumulated.a += (1.0 - accumulated.a) * sampleColor.a;
+                    if (hit.w == 0.0 && accumulated.a >= 0.5) hit = vec4(p, 1.0);
+                    if (accumulated.a >= u.adaptive.w) break;  // early ray termination
+                }
+                tPrev = t;
+                t += step;
+            }
+            color = accumulated.rgb + (1.0 - accumulated.a) * kBackground;
+        }
+    }
+    imageStore(colorImage, ivec2(pixel), vec4(pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0));
+    if ((u.frame.w & CVC_FLAG_WRITE_HITS) != 0u) imageStore(hitImage, ivec2(pixel), hit);
+}

@@ -1,0 +1,13 @@
+// The 1D transfer function: HU -> colour and opacity, with opacity given per reference step
+// and corrected for the actual step length so images do not depend on the sampling rate.
+#ifndef TRANSFER_FUNCTION_GLSL
+#define TRANSFER_FUNCTION_GLSL
+
+vec4 classify(float hu, float stepMm) {
+    float x = (hu - u.transfer.x) * u.transfer.y + u.transfer.w;  // entry e at texel centre (e + .5) / n
+    vec4 c = textureLod(transferFunction, vec2(x, 0.5), 0.0);
+    c.a = 1.0 - pow(max(1.0 - c.a, 0.0), stepMm / u.transfer.z);
+    return c;
+}
+
+#endif

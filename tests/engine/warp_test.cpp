@@ -1,0 +1,225 @@
+// Rays of display walls, bent and unbent: a 6-wall CAVE equals pinhole cameras; chord mode
+// equals exact mode for the centre eye; through the conformal map the walls keep angles
+// (quasi-conformal distortion K ~ 1, measured from the hit-position images), through the
+// linear baseline they do not.
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "conformal/cube_map_baker.h"
+#include "engine/display.h"
+#include "engine/raycaster.h"
+#include "engine/volume_texture.h"
+#include "tests/support/gpu_test_fixture.h"
+#include "volumes/analytic_phantom.h"
+#include "volumes/brick_minmax.h"
+
+namespace {
+
+using engine::WallName;
+
+/// A spherical room: air inside radius 90 mm around the volume's centre, tissue outside, so
+/// every ray from the centre ends on a sphere whose hit gives its scene direction exactly.
+struct SphericalRoom {
+    SphericalRoom(const engine::GpuContext& context)
+        : volume(makeVolume()), bricks(volumes::buildBrickMinMax(volume)), texture(context, volume),
+          raycaster(context, texture, bricks) {}
+
+    static volumes::BallSpec spec() {
+        volumes::BallSpec room;
+        room.grid.dims = {200, 200, 200};
+        room.centreMm = glm::dvec3(99.5);
+        room.radiusMm = 90.0;
+        room.insideHu = -1000;
+        room.outsideHu = 40;
+        return room;
+    }
+    static volumes::Volume makeVolume() { return volumes::makeBallPhantom(spec()); }
+
+    volumes::Volume volume;
+    volumes::BrickMinMax bricks;
+    engine::VolumeTexture texture;
+    engine::Raycaster raycaster;
+};
+
+engine::Display fiveWallCube(int pixels) {
+    engine::Display display = engine::displayPreset("cave6");
+    display.walls.pop_back();  // no ceiling
+    for (auto& wall : display.walls) wall.width = wall.height = pixels;
+    display.map = engine::MapChoice::Conformal;
+    return display;
+}
+
+engine::ScenePose poseAt(const glm::dvec3& positionMm) {
+    engine::ScenePose pose;
+    pose.positionMm = positionMm;
+    pose.forward = glm::normalize(glm::dvec3(0.2, -0.1, 1.0));  // not axis-aligned on purpose
+    pose.up = {0.0, 1.0, 0.0};
+    pose.mmPerMetre = 20.0;
+    return pose;
+}
+
+engine::RenderSettings roomSettings() {
+    engine::RenderSettings settings;
+    settings.isoHu = -480.0;
+    settings.stepVoxels = 0.5;
+    return settings;
+}
+
+class WarpedWalls : public testing_support::GpuTest {
+protected:
+    static void SetUpTestSuite() {
+        GpuTest::SetUpTestSuite();
+        conformal::BakeSettings bake;
+        bake.box.size = glm::dvec3(2.4);
+        bake.size = 192;
+        bake.mesh.resolution = 48;
+        bake.kind = conformal::MapKind::Conformal;
+        sConformal = std::make_unique<conformal::CubeMap>(conformal::bakeCubeMap(bake));
+        bake.kind = conformal::MapKind::Linear;
+        sLinear = std::make_unique<conformal::CubeMap>(conformal::bakeCubeMap(bake));
+    }
+    static inline std::unique_ptr<conformal::CubeMap> sConformal;
+    static inline std::unique_ptr<conformal::CubeMap> sLinear;
+};
+
+std::pair<int, double> colorDifference(const engine::RenderedImage& a, const engine::RenderedImage& b) {
+    int worst = 0;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.rgba.size(); ++i) {
+        const int d = std::abs(static_cast<int>(a.rgba[i]) - static_cast<int>(b.rgba[i]));
+        worst = std::max(worst, d);
+        sum += d;
+    }
+    return {worst, sum / static_cast<double>(a.rgba.size())};
+}
+
+TEST_F(WarpedWalls, SixWallDisplayEqualsPinholeCameras) {
+    SphericalRoom room(context());
+    engine::Display cave = engine::displayPreset("cave6");
+    for (auto& wall : cave.walls) wall.width = wall.height = 96;
+    cave.nearM = 0.01;
+    // Off-centre, so each wall sees a different part of the room's sphere.
+    const auto pose = poseAt(glm::dvec3(70.0, 120.0, 95.0));
+    const glm::dmat3 rotation = engine::caveToVolumeRotation(pose);
+    for (const auto& wall : cave.walls) {
+        const auto view = engine::wallView(cave, wall.name, engine::Eye::Centre, pose, engine::WarpMode::Chord);
+        EXPECT_EQ(view.warp.mode, engine::WarpMode::None);  // a 6-wall display bends nothing
+        const auto rect = engine::wallRectangle(cave, wall.name);
+        engine::PinholeCamera camera;
+        camera.positionMm = pose.positionMm;
+        camera.lookAtMm = pose.positionMm + rotation * (rect.topLeftM + 0.5 * (rect.widthM + rect.heightM));
+        camera.up = rotation * -rect.heightM;
+        camera.verticalFovDeg = 90.0;
+        camera.width = camera.height = 96;
+        const auto fromWall = room.raycaster.render(view.rays, roomSettings(), view.warp);
+        const auto fromCamera = room.raycaster.render(engine::viewRaysFrom(camera), roomSettings());
+        const auto [worst, mean] = colorDifference(fromWall, fromCamera);
+        EXPECT_LE(worst, 2) << engine::wallNameText(wall.name);
+        EXPECT_LT(mean, 0.02) << engine::wallNameText(wall.name);
+    }
+}
+
+TEST_F(WarpedWalls, ChordEqualsExactForTheCentreEye) {
+    SphericalRoom room(context());
+    room.raycaster.setCubeMap(sConformal->size, sConformal->rgba);
+    const engine::Display display = fiveWallCube(80);
+    const auto pose = poseAt(SphericalRoom::spec().centreMm + glm::dvec3(3.0, -2.0, 1.0));
+    for (const auto& wall : display.walls) {
+        const auto chord = engine::wallView(display, wall.name, engine::Eye::Centre, pose, engine::WarpMode::Chord);
+        const auto exact = engine::wallView(display, wall.name, engine::Eye::Centre, pose, engine::WarpMode::Exact);
+        const auto chordImage = room.raycaster.render(chord.rays, roomSettings(), chord.warp);
+        const auto exactImage = room.raycaster.render(exact.rays, roomSettings(), exact.warp);
+        const auto [worst, mean] = colorDifference(chordImage, exactImage);
+        EXPECT_LE(worst, 2) << engine::wallNameText(wall.name);
+        EXPECT_LT(mean, 0.05) << engine::wallNameText(wall.name);
+        double worstMm = 0.0;
+        for (std::size_t i = 0; i < chordImage.hitMm.size(); ++i) {
+            worstMm = std::max(worstMm, static_cast<double>(std::abs(chordImage.hitMm[i] - exactImage.hitMm[i])));
+        }
+        EXPECT_LT(worstMm, 0.05) << engine::wallNameText(wall.name);
+    }
+}
+
+/// Quasi-conformal distortion K = sigma_max / sigma_min of the map from display directions
+/// (pixel centres seen from the map centre) to scene directions (hits seen from the eye at the
+/// centre), by central differences `h` pixels wide, at every pixel at least `margin` from the
+/// image border. Tangent bases are built at both ends, so the wall's own perspective cancels.
+std::vector<double> distortionOf(const engine::WallView& view, const engine::RenderedImage& image, int h, int margin) {
+    const glm::dvec3 c = view.warp.mapCentreMm;
+    const auto display = [&](double x, double y) {
+        const glm::dvec3 p = view.rays.wallOriginMm + (x + 0.5) / view.rays.width * view.rays.wallUMm +
+                             (y + 0.5) / view.rays.height * view.rays.wallVMm;
+        return glm::normalize(p - c);
+    };
+    const auto scene = [&](int x, int y) {
+        const std::size_t i = 4 * (static_cast<std::size_t>(y) * image.width + x);
+        return glm::normalize(glm::dvec3(image.hitMm[i], image.hitMm[i + 1], image.hitMm[i + 2]) - c);
+    };
+    std::vector<double> ks;
+    for (int y = margin; y < image.height - margin; ++y) {
+        for (int x = margin; x < image.width - margin; ++x) {
+            const glm::dvec3 dx = (display(x + h, y) - display(x - h, y)) / (2.0 * h);
+            const glm::dvec3 dy = (display(x, y + h) - display(x, y - h)) / (2.0 * h);
+            const glm::dvec3 sx = (scene(x + h, y) - scene(x - h, y)) / (2.0 * h);
+            const glm::dvec3 sy = (scene(x, y + h) - scene(x, y - h)) / (2.0 * h);
+            // Orthonormal tangent frames, then the 2x2 Jacobian J = S * D^-1.
+            const auto frame = [](const glm::dvec3& a, const glm::dvec3& b, glm::dmat2& m) {
+                const glm::dvec3 e1 = glm::normalize(a);
+                const glm::dvec3 e2 = glm::normalize(b - glm::dot(b, e1) * e1);
+                m = glm::dmat2(glm::dot(a, e1), glm::dot(a, e2), glm::dot(b, e1), glm::dot(b, e2));
+            };
+            glm::dmat2 displayJacobian, sceneJacobian;
+            frame(dx, dy, displayJacobian);
+            frame(sx, sy, sceneJacobian);
+            const glm::dmat2 j = sceneJacobian * glm::inverse(displayJacobian);
+            // Singular values of a 2x2 matrix from its Frobenius norm and determinant.
+            const double frobenius2 = j[0][0] * j[0][0] + j[0][1] * j[0][1] + j[1][0] * j[1][0] + j[1][1] * j[1][1];
+            const double det = std::abs(glm::determinant(j));
+            const double root = std::sqrt(std::max(frobenius2 * frobenius2 - 4.0 * det * det, 0.0));
+            const double sMax = std::sqrt(0.5 * (frobenius2 + root));
+            const double sMin = det / sMax;
+            ks.push_back(sMax / sMin);
+        }
+    }
+    return ks;
+}
+
+double percentile(std::vector<double> values, double p) {
+    std::sort(values.begin(), values.end());
+    return values[static_cast<std::size_t>(p * static_cast<double>(values.size() - 1))];
+}
+
+TEST_F(WarpedWalls, ConformalMapKeepsAnglesLinearMapDoesNot) {
+    SphericalRoom room(context());
+    const engine::Display display = fiveWallCube(128);
+    const auto pose = poseAt(SphericalRoom::spec().centreMm);
+    engine::RenderSettings settings = roomSettings();
+    settings.stepVoxels = 0.25;
+    for (const conformal::CubeMap* map : {sConformal.get(), sLinear.get()}) {
+        room.raycaster.setCubeMap(map->size, map->rgba);
+        std::vector<double> ks;
+        for (const auto& wall : display.walls) {
+            const auto view = engine::wallView(display, wall.name, engine::Eye::Centre, pose, engine::WarpMode::Chord);
+            const auto image = room.raycaster.render(view.rays, settings, view.warp);
+            const auto wallKs = distortionOf(view, image, 4, 6);
+            ks.insert(ks.end(), wallKs.begin(), wallKs.end());
+        }
+        const double median = percentile(ks, 0.5), p90 = percentile(ks, 0.9);
+        const bool isConformal = map->kind == conformal::MapKind::Conformal;
+        std::cout << (isConformal ? "conformal" : "linear") << " map on the walls: K median " << median << ", p90 "
+                  << p90 << ", max " << percentile(ks, 1.0) << " over " << ks.size() << " pixels\n";
+        if (isConformal) {
+            EXPECT_LT(median, 1.01);
+            EXPECT_LT(p90, 1.05);
+        } else {
+            EXPECT_GT(median, 1.2);
+            EXPECT_GT(p90, 1.3);
+        }
+    }
+}
+
+}  // namespace
