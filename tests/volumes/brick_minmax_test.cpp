@@ -58,7 +58,7 @@ double trilinear(const Volume& v, glm::dvec3 p) {
     return sum;
 }
 
-const std::array<int, 3> kShapes[] = {{8, 8, 8}, {1, 1, 1}, {17, 9, 30}, {64, 33, 7}, {5, 40, 16}};
+const std::array<int, 3> kShapes[] = {{8, 8, 8}, {1, 1, 1}, {17, 9, 30}, {64, 33, 7}, {5, 40, 16}, {9, 12, 150}};
 
 TEST(BrickMinMax, MatchesBruteForce) {
     unsigned seed = 1;
