@@ -39,12 +39,15 @@ std::vector<double> parseNumbers(const std::string& source, const std::string& k
                                  const std::string& value, std::size_t count) {
     std::istringstream in(value);
     std::vector<double> numbers;
-    double x = 0.0;
-    while (numbers.size() <= count && in >> x) numbers.push_back(x);
-    std::string rest;
-    const bool hasRest = static_cast<bool>(in.clear(), in >> rest);
-    if (numbers.size() != count || hasRest ||
-        !std::all_of(numbers.begin(), numbers.end(), [](double v) { return std::isfinite(v); })) {
+    std::string token;
+    while (numbers.size() <= count && in >> token) {
+        std::istringstream number(token);
+        double x = 0.0;
+        std::string trailing;
+        if (!(number >> x) || (number >> trailing) || !std::isfinite(x)) break;
+        numbers.push_back(x);
+    }
+    if (numbers.size() != count || (in >> token)) {
         fail(source, key + " = '" + value + "', expected " + std::to_string(count) + " finite numbers");
     }
     return numbers;
@@ -69,7 +72,7 @@ ScalarType parseElementType(const std::string& source, const std::string& value)
 
 MetaImageHeader parseMetaImageHeader(const std::string& source, std::istream& in) {
     MetaImageHeader header;
-    bool hasDims = false, hasType = false;
+    bool hasDims = false, hasType = false, hasSpacing = false;
     std::uint64_t consumed = 0;
     std::string line;
     for (int lineCount = 0;; ++lineCount) {
@@ -100,9 +103,12 @@ MetaImageHeader parseMetaImageHeader(const std::string& source, std::istream& in
                 header.dims[static_cast<std::size_t>(axis)] = static_cast<int>(v);
             }
             hasDims = true;
-        } else if (key == "ElementSpacing" || (key == "ElementSize" && !hasDims)) {
+        } else if (key == "ElementSpacing" || (key == "ElementSize" && !hasSpacing)) {
+            // ElementSize is the voxel's extent; it stands in for the spacing only when no
+            // ElementSpacing is given.
             const auto s = parseNumbers(source, key, value, 3);
             header.spacingMm = {s[0], s[1], s[2]};
+            hasSpacing = key == "ElementSpacing";
         } else if (key == "Offset" || key == "Position" || key == "Origin") {
             const auto o = parseNumbers(source, key, value, 3);
             header.originLps = {o[0], o[1], o[2]};

@@ -14,6 +14,8 @@ namespace {
 
 /// A description longer than this is not a raw-volume description.
 constexpr std::size_t kMaxSpecBytes = 512;
+/// Header bytes to skip are bounded so that skip + data size cannot overflow.
+constexpr std::uint64_t kMaxSkipBytes = std::uint64_t{1} << 40;
 
 [[noreturn]] void failSpec(const std::string& spec, const std::string& problem) {
     throw VolumeError("raw volume description '" + spec + "': " + problem +
@@ -94,8 +96,8 @@ RawOptions parseRawSpec(const std::string& spec) {
             const std::string text = part.substr(5);
             std::uint64_t n = 0;
             const auto result = std::from_chars(text.data(), text.data() + text.size(), n);
-            if (text.empty() || result.ec != std::errc{} || result.ptr != text.data() + text.size()) {
-                failSpec(spec, "skip '" + text + "' is not a byte count");
+            if (text.empty() || result.ec != std::errc{} || result.ptr != text.data() + text.size() || n > kMaxSkipBytes) {
+                failSpec(spec, "skip '" + text + "' is not a byte count up to 2^40");
             }
             options.headerBytes = n;
         } else if (part.rfind("slope=", 0) == 0) {

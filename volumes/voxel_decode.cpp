@@ -134,10 +134,10 @@ void readCompressedHu(const std::string& source, std::istream& in, const StoredF
     z_stream stream{};
     // 15 + 32: the largest window, and accept either a zlib or a gzip header.
     if (inflateInit2(&stream, 15 + 32) != Z_OK) throw VolumeError(source + ": cannot start zlib");
-    struct Ender {
+    struct InflateGuard {
         z_stream* s;
-        ~Ender() { inflateEnd(s); }
-    } ender{&stream};
+        ~InflateGuard() { inflateEnd(s); }
+    } guard{&stream};
 
     bool isStreamEnd = false;
     auto inflateInto = [&](unsigned char* out, std::size_t bytes) -> std::size_t {
