@@ -28,8 +28,8 @@ void alignCorners(std::vector<Complex>& disk, const std::array<int, 4>& corners)
 }
 
 std::vector<Complex> diskOfSphere(const SphereMesh& sphere, const RicciFlowSettings& flow,
-                                  RiemannMapReport* report) {
-    std::vector<Complex> disk = diskFromMesh(sphere.mesh, sphere.nadirVertex, flow, report);
+                                  RiemannMapReport* report, const std::vector<double>* initialLogScale) {
+    std::vector<Complex> disk = diskFromMesh(sphere.mesh, sphere.nadirVertex, flow, report, 0.0, initialLogScale);
     alignCorners(disk, sphere.cornerVertices);
     return disk;
 }
@@ -42,14 +42,21 @@ ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(set
     auto buildSide = [&settings](SphereDomain domain, SphereMesh& sphere, std::vector<Complex>& disk,
                                  RiemannMapReport* report) {
         sphere = buildSphereMesh(settings.box, domain, settings.mesh);
-        disk = diskOfSphere(sphere, settings.flow, report);
-        if (settings.isExtrapolated) {
-            SphereMeshSettings coarseSettings = settings.mesh;
-            coarseSettings.coarsening = 2;
-            const SphereMesh coarse = buildSphereMesh(settings.box, domain, coarseSettings);
-            const std::vector<Complex> coarseDisk = diskOfSphere(coarse, settings.flow, nullptr);
-            disk = extrapolateFromCoarse(sphere, disk, coarse, coarseDisk);
+        if (!settings.isExtrapolated) {
+            disk = diskOfSphere(sphere, settings.flow, report, nullptr);
+            return;
         }
+        // The half-resolution mesh first: its flow is cheap, gives the fine flow its starting
+        // point, and its map the error estimate that Richardson extrapolation removes.
+        SphereMeshSettings coarseSettings = settings.mesh;
+        coarseSettings.coarsening = 2;
+        const SphereMesh coarse = buildSphereMesh(settings.box, domain, coarseSettings);
+        RiemannMapReport coarseReport;
+        const std::vector<Complex> coarseDisk = diskOfSphere(coarse, settings.flow, &coarseReport, nullptr);
+        const LatticeParents parents = latticeParents(sphere, coarse);
+        const std::vector<double> guess = prolongFromCoarse(parents, coarseReport.vertexLogScale);
+        const std::vector<Complex> fineDisk = diskOfSphere(sphere, settings.flow, report, &guess);
+        disk = extrapolateFromCoarse(parents, fineDisk, coarseDisk);
     };
     // The two sides are independent: mesh and flow them on two threads.
     auto sceneJob = std::async(std::launch::async, [&] {
@@ -101,6 +108,10 @@ Complex ConformalMap::diskFromDisplay(const glm::dvec3& display) const {
         throw std::domain_error("conformal map: the display direction is on the ceiling, "
                                 "outside Omega5");
     }
+    return displayDiskAt(location, display);
+}
+
+Complex ConformalMap::displayDiskAt(const MeshLocation& location, const glm::dvec3& display) const {
     if (mIsSmooth) return mDisplayForward.evaluate(location.triangle, location.barycentric, display);
     const auto& tri = mDisplay.mesh.triangles[location.triangle];
     return location.barycentric.x * mDisplayDisk[tri[0]] +
@@ -140,7 +151,7 @@ glm::dvec3 ConformalMap::sceneFromDisplay(const glm::dvec3& display) const {
     const glm::dvec3 d = glm::normalize(display);
     const MeshLocation location = locateDirection(mDisplay, d);
     if (location.triangle < 0) return ceilingExtension(d);
-    return sceneFromDisk(diskFromDisplay(d));
+    return sceneFromDisk(displayDiskAt(location, d));
 }
 
 glm::dvec3 ConformalMap::displayFromScene(const glm::dvec3& scene) const {

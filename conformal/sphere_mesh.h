@@ -22,7 +22,7 @@ enum class SphereDomain {
 struct SphereMeshSettings {
     /// Grid segments along the longest box edge; the others get proportionally many (counts
     /// rounded to multiples of 4, at least 4). Vertices: about 6 resolution^2 for a cube.
-    int resolution = 128;
+    int resolution = 112;
     /// Grading exponent p >= 1 of the grid lines toward the box edges and hence the corners,
     /// where the maps are singular: t -> t^p / (t^p + (1 - t)^p). 1 is a uniform grid.
     double grading = 1.0;
