@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "volumes/dicom_reader.h"
 #include "volumes/load_volume.h"
 #include "volumes/volume_stats.h"
 
@@ -38,8 +39,18 @@ void runInfo(const InfoOptions& options) {
     std::ostream& out = std::cout;
     out << std::setprecision(6);
     out << "file:        " << options.path << '\n'
-        << "format:      " << volumes::volumeFormatName(loaded.format) << '\n'
-        << "dims:        " << v.dims[0] << " x " << v.dims[1] << " x " << v.dims[2] << " voxels ("
+        << "format:      " << volumes::volumeFormatName(loaded.format) << '\n';
+    if (loaded.format == volumes::VolumeFormat::DicomSeries) {
+        // Folders often hold scouts or reformats beside the scan: say which series was read.
+        const auto series = volumes::listDicomSeries(options.path);
+        const std::string& read = options.seriesUid.empty() ? series.front().seriesUid : options.seriesUid;
+        out << "series:      " << read << " (" << series.size() << " series in the folder";
+        for (const volumes::DicomSeriesInfo& s : series) {
+            if (s.seriesUid != read) out << "; also " << s.seriesUid << ", " << s.fileCount << " files";
+        }
+        out << ")\n";
+    }
+    out << "dims:        " << v.dims[0] << " x " << v.dims[1] << " x " << v.dims[2] << " voxels ("
         << v.voxelCount() << ")\n"
         << "spacing:     " << v.spacingMm.x << " x " << v.spacingMm.y << " x " << v.spacingMm.z << " mm\n"
         << "extent:      " << v.extentMm().x << " x " << v.extentMm().y << " x " << v.extentMm().z << " mm\n"

@@ -181,6 +181,19 @@ TEST(NiftiReader, AppliesSformAndScaling) {
     EXPECT_NEAR(v.originLps.z, 30.0, 1e-6);
 }
 
+TEST(NiftiReader, ReadsHeaderAndImagePair) {
+    // NIfTI-1 as two files: magic "ni1", data from byte 0 of the .img.
+    const std::string folder = scratchFolder("nifti_pair");
+    const std::vector<int16_t> stored = {10, 20, 30, 40, 50, 60, 70, 80};
+    std::string header = niftiBytes({2, 2, 2}, 4, 16, 0.0f, 0.0f, "").substr(0, 348);
+    std::memcpy(header.data() + 344, "ni1\0", 4);
+    const float zero = 0.0f;
+    std::memcpy(header.data() + 108, &zero, 4);
+    writeBytes(folder + "/v.hdr", header);
+    writeBytes(folder + "/v.img", bytesOf(stored));
+    EXPECT_EQ(loadVolume(folder + "/v.hdr").hu, stored);
+}
+
 TEST(BadInput, NiftiProblems) {
     const std::string folder = scratchFolder("bad_nifti");
     writeBytes(folder + "/complex.nii", niftiBytes({2, 2, 2}, 32, 64, 0.0f, 0.0f, std::string(64, '\0')));
@@ -264,6 +277,24 @@ TEST(CvcInfo, PrintsTheSharedAbdomen) {
                                  "soft tissue", "bricks:"}) {
         EXPECT_NE(run.out.find(expected), std::string::npos) << expected << " missing from:\n" << run.out;
     }
+}
+
+TEST(CvcInfo, NamesTheSeriesItReadFromAFolderOfTwo) {
+    const std::string folder = scratchFolder("info_two_series");
+    for (const char* name : {"ibsi_ct_phantom_chest", "ibsi_sts008_ct"}) {
+        std::filesystem::copy(testing::sharedData(std::string("dicom/") + name), std::filesystem::path(folder) / name);
+    }
+    const auto largest = testing_support::runCvc("info '" + folder + "'");
+    ASSERT_EQ(largest.exitCode, 0) << largest.err;
+    EXPECT_NE(largest.out.find("2 series in the folder"), std::string::npos) << largest.out;
+    EXPECT_NE(largest.out.find("204 x 201 x 60"), std::string::npos) << largest.out;  // the chest: 60 files
+    const std::string sarcomaUid = listDicomSeries(testing::sharedData("dicom/ibsi_sts008_ct")).front().seriesUid;
+    const auto chosen = testing_support::runCvc("info '" + folder + "' --series " + sarcomaUid);
+    ASSERT_EQ(chosen.exitCode, 0) << chosen.err;
+    EXPECT_NE(chosen.out.find("141 x 137 x 51"), std::string::npos) << chosen.out;
+    const auto missing = testing_support::runCvc("info '" + folder + "' --series 1.2.3");
+    EXPECT_NE(missing.exitCode, 0);
+    EXPECT_NE(missing.err.find("no series with SeriesInstanceUID 1.2.3"), std::string::npos) << missing.err;
 }
 
 TEST(CvcInfo, FailsWithOneLineOnBadInput) {
