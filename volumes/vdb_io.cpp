@@ -59,8 +59,8 @@ public:
         : mPath(path), mVolume(volume), mIndexMin(indexMin) {
         const int16_t backgroundHu = huFromFloat(path, background, indexMin);
         mVolume.hu.assign(mVolume.voxelCount(), backgroundHu);
-        mHasLeafBricks = wantsBricks && indexMin.x() % kBrickSize == 0 && indexMin.y() % kBrickSize == 0 &&
-                         indexMin.z() % kBrickSize == 0;
+        mIsLeafAligned = indexMin.x() % kBrickSize == 0 && indexMin.y() % kBrickSize == 0 && indexMin.z() % kBrickSize == 0;
+        mHasLeafBricks = wantsBricks && mIsLeafAligned;
         if (mHasLeafBricks) {
             mBrickDims = brickDimsFor(volume.dims);
             mFaces.resize(static_cast<std::size_t>(mBrickDims[0]) * mBrickDims[1] * mBrickDims[2]);
@@ -93,17 +93,17 @@ public:
         }
         // Leaves: whole ones when aligned; otherwise voxel by voxel within the slab.
         for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
-            const openvdb::CoordBBox leafBox = leaf->getNodeBoundingBox();
-            if (!leafBox.hasOverlap(slab)) continue;
-            const bool isOwnLeaf = slab.isInside(leaf->origin());
-            if (mHasLeafBricks && !isOwnLeaf) continue;  // clipped copy of a neighbouring slab's leaf
+            if (!leaf->getNodeBoundingBox().hasOverlap(slab)) continue;
+            if (mIsLeafAligned) {
+                if (slab.isInside(leaf->origin())) addAlignedLeaf(*leaf);
+                continue;  // otherwise a clipped copy of a neighbouring slab's leaf
+            }
             const float* values = leaf->buffer().data();
             for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n) {
                 const openvdb::Coord at = leaf->origin() + FloatLeaf::offsetToLocalCoord(n);
                 if (!slab.isInside(at)) continue;
                 mVolume.hu[indexOf(at)] = huFromFloat(mPath, values[n], at);
             }
-            if (mHasLeafBricks) addLeafToFaces(*leaf);
         }
     }
 
@@ -150,46 +150,62 @@ private:
                static_cast<std::size_t>(mBrickDims[0]) * (static_cast<std::size_t>(by) + static_cast<std::size_t>(mBrickDims[1]) * bz);
     }
 
-    /// Every voxel of the leaf inside the volume updates the slots it belongs to.
-    void addLeafToFaces(const FloatLeaf& leaf) {
+    /// Copies a leaf that coincides with a brick into the volume and, when bricks are wanted,
+    /// records the ranges of its slots, reducing z, then y, then x (first layer, all layers,
+    /// last layer per axis).
+    void addAlignedLeaf(const FloatLeaf& leaf) {
+        constexpr int kN = kBrickSize;
         const openvdb::Coord origin = leaf.origin() - mIndexMin;
+        // Voxels of the leaf inside the volume: a brick cut by the volume's end is shorter.
+        int count[3];
+        for (int axis = 0; axis < 3; ++axis) {
+            count[axis] = std::min(kN, mVolume.dims[static_cast<std::size_t>(axis)] - origin[axis]);
+        }
+        // Leaf offsets are z fastest: n = (x << 6) | (y << 3) | z.
+        const float* values = leaf.buffer().data();
+        int16_t hu[kN][kN][kN];
+        for (int x = 0; x < count[0]; ++x)
+            for (int y = 0; y < count[1]; ++y) {
+                for (int z = 0; z < count[2]; ++z) {
+                    const openvdb::Coord at = leaf.origin() + openvdb::Coord(x, y, z);
+                    hu[x][y][z] = huFromFloat(mPath, values[(x << 6) | (y << 3) | z], at);
+                    mVolume.hu[indexOf(at)] = hu[x][y][z];
+                }
+            }
+        if (!mHasLeafBricks) return;
+        // Slot s of an axis with `n` layers: 0 the first layer, 1 all of them, 2 the last.
+        auto reduce = [](const int16_t* lo, const int16_t* hi, int n, int stride, int s, int16_t& outLo, int16_t& outHi) {
+            const int first = s == 2 ? n - 1 : 0, last = s == 0 ? 0 : n - 1;
+            outLo = std::numeric_limits<int16_t>::max();
+            outHi = std::numeric_limits<int16_t>::min();
+            for (int i = first; i <= last; ++i) {
+                outLo = std::min(outLo, lo[i * stride]);
+                outHi = std::max(outHi, hi[i * stride]);
+            }
+        };
+        int16_t zLo[kN][kN][3], zHi[kN][kN][3];
+        for (int x = 0; x < count[0]; ++x)
+            for (int y = 0; y < count[1]; ++y)
+                for (int s = 0; s < 3; ++s) reduce(hu[x][y], hu[x][y], count[2], 1, s, zLo[x][y][s], zHi[x][y][s]);
+        int16_t yLo[kN][3][3], yHi[kN][3][3];
+        for (int x = 0; x < count[0]; ++x)
+            for (int sz = 0; sz < 3; ++sz)
+                for (int sy = 0; sy < 3; ++sy) reduce(&zLo[x][0][sz], &zHi[x][0][sz], count[1], 3, sy, yLo[x][sy][sz], yHi[x][sy][sz]);
         const openvdb::Coord brick = brickOf(leaf.origin());
         BrickFaces& f = mFaces[brickIndex(brick.x(), brick.y(), brick.z())];
-        std::fill(std::begin(f.lo), std::end(f.lo), std::numeric_limits<int16_t>::max());
-        std::fill(std::begin(f.hi), std::end(f.hi), std::numeric_limits<int16_t>::min());
-        int lastLayer[3];
-        for (int axis = 0; axis < 3; ++axis) {
-            // A brick cut by the volume's end has its last layer at dims - 1.
-            lastLayer[axis] = std::min(kBrickSize - 1, mVolume.dims[static_cast<std::size_t>(axis)] - 1 - origin[axis]);
-        }
-        const float* values = leaf.buffer().data();
-        for (openvdb::Index n = 0; n < FloatLeaf::SIZE; ++n) {
-            const openvdb::Coord local = FloatLeaf::offsetToLocalCoord(n);
-            if (local.x() > lastLayer[0] || local.y() > lastLayer[1] || local.z() > lastLayer[2]) continue;
-            const int16_t v = huFromFloat(mPath, values[n], leaf.origin() + local);
-            // Slots per axis this voxel belongs to: always 1 ("all"), 0 on the first layer, 2 on the last.
-            int slots[3][2];
-            int slotCount[3];
-            for (int axis = 0; axis < 3; ++axis) {
-                slotCount[axis] = 0;
-                slots[axis][slotCount[axis]++] = 1;
-                if (local[axis] == 0) slots[axis][slotCount[axis]++] = 0;
-                if (local[axis] == lastLayer[axis]) slots[axis][slotCount[axis]++] = 2;
-            }
-            for (int a = 0; a < slotCount[0]; ++a)
-                for (int b = 0; b < slotCount[1]; ++b)
-                    for (int c = 0; c < slotCount[2]; ++c) {
-                        const int s = slots[0][a] + 3 * (slots[1][b] + 3 * slots[2][c]);
-                        f.lo[s] = std::min(f.lo[s], v);
-                        f.hi[s] = std::max(f.hi[s], v);
-                    }
-        }
+        for (int sz = 0; sz < 3; ++sz)
+            for (int sy = 0; sy < 3; ++sy)
+                for (int sx = 0; sx < 3; ++sx) {
+                    const int slot = sx + 3 * (sy + 3 * sz);
+                    reduce(&yLo[0][sy][sz], &yHi[0][sy][sz], count[0], 9, sx, f.lo[slot], f.hi[slot]);
+                }
     }
 
     const std::string& mPath;
     Volume& mVolume;
     openvdb::Coord mIndexMin;
-    bool mHasLeafBricks = false;
+    bool mIsLeafAligned = false;   ///< leaves coincide with bricks
+    bool mHasLeafBricks = false;   ///< brick ranges are collected from leaves and tiles
     std::array<int, 3> mBrickDims{0, 0, 0};
     std::vector<BrickFaces> mFaces;
 };
