@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "volumes/parallel_for.h"
+
 namespace volumes {
 namespace {
 
@@ -28,7 +30,8 @@ void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& i
     const std::size_t outStride = axis == 0 ? 1 : axis == 1 ? static_cast<std::size_t>(outExtents[0])
                                                              : static_cast<std::size_t>(outExtents[0]) * outExtents[1];
     const std::array<int, 3> lineExtents{axis == 0 ? 1 : extents[0], axis == 1 ? 1 : extents[1], axis == 2 ? 1 : extents[2]};
-    for (int c = 0; c < lineExtents[2]; ++c) {
+    // Planes of lines are independent: one per parallel item.
+    parallelFor(lineExtents[2], [&](int c) {
         for (int b = 0; b < lineExtents[1]; ++b) {
             for (int a = 0; a < lineExtents[0]; ++a) {
                 const std::size_t inBase = static_cast<std::size_t>(a) +
@@ -51,7 +54,7 @@ void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& i
                 }
             }
         }
-    }
+    });
 }
 
 }  // namespace

@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <exception>
-#include <functional>
 #include <limits>
-#include <mutex>
-#include <thread>
 
 #include <nlohmann/json.hpp>
+
+#include "volumes/parallel_for.h"
 
 namespace volumes {
 namespace {
@@ -164,25 +162,6 @@ double gaussianAt(std::uint64_t seed, std::uint64_t n) {
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
 }
 
-void runInParallel(int count, const std::function<void(int)>& job) {
-    const int threads = std::max(1, std::min<int>(static_cast<int>(std::thread::hardware_concurrency()), count));
-    std::vector<std::thread> pool;
-    std::exception_ptr error;
-    std::mutex errorMutex;
-    for (int t = 0; t < threads; ++t) {
-        pool.emplace_back([&, t] {
-            try {
-                for (int i = t; i < count; i += threads) job(i);
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(errorMutex);
-                error = std::current_exception();
-            }
-        });
-    }
-    for (std::thread& thread : pool) thread.join();
-    if (error) std::rethrow_exception(error);
-}
-
 }  // namespace
 
 std::vector<PolypSpec> ColonPhantomSpec::defaultPolyps() {
@@ -281,7 +260,7 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
     const int slabs = (volume.dims[2] + kSlabLayers - 1) / kSlabLayers;
     const std::size_t layerVoxels = static_cast<std::size_t>(volume.dims[0]) * volume.dims[1];
     const glm::dvec3 spacing = volume.spacingMm;
-    runInParallel(slabs, [&](int slab) {
+    parallelFor(slabs, [&](int slab) {
         const int k0 = slab * kSlabLayers, k1 = std::min(k0 + kSlabLayers, volume.dims[2]);
         std::vector<float> bestDistance(layerVoxels * static_cast<std::size_t>(k1 - k0), std::numeric_limits<float>::max());
         std::vector<float> bestArc(bestDistance.size(), 0.0f);
