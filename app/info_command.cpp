@@ -50,8 +50,8 @@ void runInfo(const InfoOptions& options) {
         }
         out << ")\n";
     }
-    out << "dims:        " << v.dims[0] << " x " << v.dims[1] << " x " << v.dims[2] << " voxels ("
-        << v.voxelCount() << ")\n"
+    out << "dims:        " << v.dims[0] << " x " << v.dims[1] << " x " << v.dims[2] << " voxels (" << v.voxelCount()
+        << ")\n"
         << "spacing:     " << v.spacingMm.x << " x " << v.spacingMm.y << " x " << v.spacingMm.z << " mm\n"
         << "extent:      " << v.extentMm().x << " x " << v.extentMm().y << " x " << v.extentMm().z << " mm\n"
         << "origin:      ";
@@ -62,8 +62,8 @@ void runInfo(const InfoOptions& options) {
         printVector(out, v.directionLps[axis]);
         out << (axis < 2 ? " " : ")\n");
     }
-    out << "HU range:    " << stats.minHu << " .. " << stats.maxHu << ", mean " << std::fixed
-        << std::setprecision(1) << stats.meanHu << '\n'
+    out << "HU range:    " << stats.minHu << " .. " << stats.maxHu << ", mean " << std::fixed << std::setprecision(1)
+        << stats.meanHu << '\n'
         << "percentiles: 1% " << stats.percentileHu[0] << ", 50% " << stats.percentileHu[1] << ", 99% "
         << stats.percentileHu[2] << " HU\n"
         << "histogram:\n";
@@ -87,8 +87,9 @@ void runInfo(const InfoOptions& options) {
 void addInfoCommand(CLI::App& program) {
     auto options = std::make_shared<InfoOptions>();
     CLI::App* command = program.add_subcommand(
-        "info", "Print a volume's grid, orientation, HU range and histogram (DICOM folder, .nrrd, .nhdr, .nii, "
-                ".nii.gz, .mha, .mhd, .vdb, raw)");
+        "info",
+        "Print a volume's grid, orientation, HU range and histogram (DICOM folder, .nrrd, .nhdr, .nii, "
+        ".nii.gz, .mha, .mhd, .vdb, raw)");
     command->add_option("FILE", options->path, "Volume file, or a folder holding one DICOM series")->required();
     command->add_option("--raw", options->rawSpec,
                         "Describe a headerless raw file: DIMS:TYPE:SPACING[:big][:skip=N], e.g. "

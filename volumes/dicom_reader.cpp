@@ -74,7 +74,8 @@ struct SliceFile {
 /// All readable image files in `folder`, grouped by series UID.
 std::map<std::string, std::vector<SliceFile>> scanFolder(const std::string& folder) {
     std::error_code error;
-    if (!std::filesystem::is_directory(folder, error)) fail(folder, "is not a folder (a DICOM series is read from a folder)");
+    if (!std::filesystem::is_directory(folder, error))
+        fail(folder, "is not a folder (a DICOM series is read from a folder)");
     gdcm::Trace::SetWarning(false);
     gdcm::Directory directory;
     directory.Load(folder, true);
@@ -149,8 +150,8 @@ double sortAndCheckSlices(const std::string& folder, std::vector<SliceFile>& sli
         const double gap = slices[k].distanceMm - slices[k - 1].distanceMm;
         if (std::abs(gap - spacingMm) > kGapTolerance * spacingMm) {
             std::ostringstream msg;
-            msg << "uneven slice spacing: " << gap << " mm between " << slices[k - 1].path << " and "
-                << slices[k].path << ", mean " << spacingMm << " mm (missing slice or variable-thickness "
+            msg << "uneven slice spacing: " << gap << " mm between " << slices[k - 1].path << " and " << slices[k].path
+                << ", mean " << spacingMm << " mm (missing slice or variable-thickness "
                 << "scan; resample it to a regular grid first)";
             fail(folder, msg.str());
         }
@@ -163,8 +164,8 @@ double sortAndCheckSlices(const std::string& folder, std::vector<SliceFile>& sli
             const double degrees =
                 std::atan2(glm::length(lateral), std::abs(glm::dot(offset, normal))) * 180.0 / 3.14159265358979;
             std::ostringstream msg;
-            msg << "slices are sheared (gantry tilt of about " << degrees << " degrees: " << slice.path
-                << " sits " << glm::length(lateral) << " mm off the slice normal); resample the series "
+            msg << "slices are sheared (gantry tilt of about " << degrees << " degrees: " << slice.path << " sits "
+                << glm::length(lateral) << " mm off the slice normal); resample the series "
                 << "to an orthogonal grid first";
             fail(folder, msg.str());
         }
@@ -265,7 +266,8 @@ Volume readDicomSeries(const std::string& folder, const std::string& seriesUid) 
         }
         if (ties > 1) {
             std::string names;
-            for (const auto& [uid, files] : series) names += " " + uid + " (" + std::to_string(files.size()) + " files)";
+            for (const auto& [uid, files] : series)
+                names += " " + uid + " (" + std::to_string(files.size()) + " files)";
             fail(folder, "holds several series of equal size, name one:" + names);
         }
     }
@@ -284,7 +286,8 @@ Volume readDicomSeries(const std::string& folder, const std::string& seriesUid) 
     volume.dims = {static_cast<int>(firstDims[0]), static_cast<int>(firstDims[1]), static_cast<int>(slices->size())};
     volume.spacingMm = {firstImage.GetSpacing(0), firstImage.GetSpacing(1), firstImage.GetSpacing(2)};
     glm::dvec3 normal{0, 0, 1};
-    const double sliceSpacing = sortAndCheckSlices(folder, *slices, normal, std::min(volume.spacingMm.x, volume.spacingMm.y));
+    const double sliceSpacing =
+        sortAndCheckSlices(folder, *slices, normal, std::min(volume.spacingMm.x, volume.spacingMm.y));
     if (slices->size() > 1) volume.spacingMm.z = sliceSpacing;
     const SliceFile& first = slices->front();
     volume.originLps = first.positionLps;
@@ -303,8 +306,9 @@ Volume readDicomSeries(const std::string& folder, const std::string& seriesUid) 
         const gdcm::Image& image = reader.GetImage();
         const unsigned int* dims = image.GetDimensions();
         if (dims[0] != firstDims[0] || dims[1] != firstDims[1]) {
-            fail(slice.path, "is " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + " pixels, the series' first slice " +
-                                 std::to_string(firstDims[0]) + "x" + std::to_string(firstDims[1]));
+            fail(slice.path, "is " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) +
+                                 " pixels, the series' first slice " + std::to_string(firstDims[0]) + "x" +
+                                 std::to_string(firstDims[1]));
         }
         if (std::abs(image.GetSpacing(0) - volume.spacingMm.x) > 1e-4 ||
             std::abs(image.GetSpacing(1) - volume.spacingMm.y) > 1e-4) {

@@ -12,7 +12,7 @@ namespace volumes {
 
 /// One series found in a folder.
 struct DicomSeriesInfo {
-    std::string seriesUid;   ///< SeriesInstanceUID (0020,000E)
+    std::string seriesUid;  ///< SeriesInstanceUID (0020,000E)
     std::size_t fileCount = 0;
 };
 

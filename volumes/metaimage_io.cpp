@@ -35,8 +35,8 @@ bool isTrue(const std::string& value) {
 }
 
 /// Parses exactly `count` finite numbers from `value`, or fails naming `key`.
-std::vector<double> parseNumbers(const std::string& source, const std::string& key,
-                                 const std::string& value, std::size_t count) {
+std::vector<double> parseNumbers(const std::string& source, const std::string& key, const std::string& value,
+                                 std::size_t count) {
     std::istringstream in(value);
     std::vector<double> numbers;
     std::string token;
@@ -55,9 +55,8 @@ std::vector<double> parseNumbers(const std::string& source, const std::string& k
 
 ScalarType parseElementType(const std::string& source, const std::string& value) {
     static const std::map<std::string, ScalarType> kTypes = {
-        {"MET_CHAR", ScalarType::Int8},     {"MET_UCHAR", ScalarType::UInt8},
-        {"MET_SHORT", ScalarType::Int16},   {"MET_USHORT", ScalarType::UInt16},
-        {"MET_INT", ScalarType::Int32},     {"MET_UINT", ScalarType::UInt32},
+        {"MET_CHAR", ScalarType::Int8},     {"MET_UCHAR", ScalarType::UInt8},   {"MET_SHORT", ScalarType::Int16},
+        {"MET_USHORT", ScalarType::UInt16}, {"MET_INT", ScalarType::Int32},     {"MET_UINT", ScalarType::UInt32},
         {"MET_FLOAT", ScalarType::Float32}, {"MET_DOUBLE", ScalarType::Float64}};
     const auto it = kTypes.find(value);
     if (it == kTypes.end()) {
@@ -97,8 +96,7 @@ MetaImageHeader parseMetaImageHeader(const std::string& source, std::istream& in
             for (int axis = 0; axis < 3; ++axis) {
                 const double v = n[static_cast<std::size_t>(axis)];
                 if (v != std::floor(v) || v < 1 || v > kMaxDimension) {
-                    fail(source, "DimSize = '" + value + "', expected integers in 1.." +
-                                     std::to_string(kMaxDimension));
+                    fail(source, "DimSize = '" + value + "', expected integers in 1.." + std::to_string(kMaxDimension));
                 }
                 header.dims[static_cast<std::size_t>(axis)] = static_cast<int>(v);
             }
@@ -207,8 +205,7 @@ Volume readMetaImage(const std::string& path) {
         if (dataBytesAvailable != rawBytes) {
             fail(dataPath, "holds " + std::to_string(dataBytesAvailable) +
                                " bytes of voxel data, the header's DimSize and ElementType call for " +
-                               std::to_string(rawBytes) +
-                               (dataBytesAvailable < rawBytes ? " (truncated file?)" : ""));
+                               std::to_string(rawBytes) + (dataBytesAvailable < rawBytes ? " (truncated file?)" : ""));
         }
         readRawHu(dataPath, *data, header.format, volume.hu);
     }

@@ -59,7 +59,8 @@ public:
         : mPath(path), mVolume(volume), mIndexMin(indexMin) {
         const int16_t backgroundHu = huFromFloat(path, background, indexMin);
         mVolume.hu.assign(mVolume.voxelCount(), backgroundHu);
-        mIsLeafAligned = indexMin.x() % kBrickSize == 0 && indexMin.y() % kBrickSize == 0 && indexMin.z() % kBrickSize == 0;
+        mIsLeafAligned =
+            indexMin.x() % kBrickSize == 0 && indexMin.y() % kBrickSize == 0 && indexMin.z() % kBrickSize == 0;
         mHasLeafBricks = wantsBricks && mIsLeafAligned;
         if (mHasLeafBricks) {
             mBrickDims = brickDimsFor(volume.dims);
@@ -83,7 +84,8 @@ public:
             const int16_t value = huFromFloat(mPath, *tile, box.min());
             for (int z = box.min().z(); z <= box.max().z(); ++z)
                 for (int y = box.min().y(); y <= box.max().y(); ++y)
-                    for (int x = box.min().x(); x <= box.max().x(); ++x) mVolume.hu[indexOf(openvdb::Coord(x, y, z))] = value;
+                    for (int x = box.min().x(); x <= box.max().x(); ++x)
+                        mVolume.hu[indexOf(openvdb::Coord(x, y, z))] = value;
             if (mHasLeafBricks) {
                 const openvdb::Coord first = brickOf(box.min()), last = brickOf(box.max());
                 for (int bz = first.z(); bz <= last.z(); ++bz)
@@ -147,7 +149,8 @@ private:
     }
     std::size_t brickIndex(int bx, int by, int bz) const {
         return static_cast<std::size_t>(bx) +
-               static_cast<std::size_t>(mBrickDims[0]) * (static_cast<std::size_t>(by) + static_cast<std::size_t>(mBrickDims[1]) * bz);
+               static_cast<std::size_t>(mBrickDims[0]) *
+                   (static_cast<std::size_t>(by) + static_cast<std::size_t>(mBrickDims[1]) * bz);
     }
 
     /// Copies a leaf that coincides with a brick into the volume and, when bricks are wanted,
@@ -174,7 +177,8 @@ private:
             }
         if (!mHasLeafBricks) return;
         // Slot s of an axis with `n` layers: 0 the first layer, 1 all of them, 2 the last.
-        auto reduce = [](const int16_t* lo, const int16_t* hi, int n, int stride, int s, int16_t& outLo, int16_t& outHi) {
+        auto reduce = [](const int16_t* lo, const int16_t* hi, int n, int stride, int s, int16_t& outLo,
+                         int16_t& outHi) {
             const int first = s == 2 ? n - 1 : 0, last = s == 0 ? 0 : n - 1;
             outLo = std::numeric_limits<int16_t>::max();
             outHi = std::numeric_limits<int16_t>::min();
@@ -190,7 +194,8 @@ private:
         int16_t yLo[kN][3][3], yHi[kN][3][3];
         for (int x = 0; x < count[0]; ++x)
             for (int sz = 0; sz < 3; ++sz)
-                for (int sy = 0; sy < 3; ++sy) reduce(&zLo[x][0][sz], &zHi[x][0][sz], count[1], 3, sy, yLo[x][sy][sz], yHi[x][sy][sz]);
+                for (int sy = 0; sy < 3; ++sy)
+                    reduce(&zLo[x][0][sz], &zHi[x][0][sz], count[1], 3, sy, yLo[x][sy][sz], yHi[x][sy][sz]);
         const openvdb::Coord brick = brickOf(leaf.origin());
         BrickFaces& f = mFaces[brickIndex(brick.x(), brick.y(), brick.z())];
         for (int sz = 0; sz < 3; ++sz)
@@ -204,8 +209,8 @@ private:
     const std::string& mPath;
     Volume& mVolume;
     openvdb::Coord mIndexMin;
-    bool mIsLeafAligned = false;   ///< leaves coincide with bricks
-    bool mHasLeafBricks = false;   ///< brick ranges are collected from leaves and tiles
+    bool mIsLeafAligned = false;  ///< leaves coincide with bricks
+    bool mHasLeafBricks = false;  ///< brick ranges are collected from leaves and tiles
     std::array<int, 3> mBrickDims{0, 0, 0};
     std::vector<BrickFaces> mFaces;
 };
@@ -250,7 +255,8 @@ Volume readVdb(const std::string& path, BrickMinMax* bricks, const std::string& 
         }
         if (!meta) fail(path, "holds no float grid (expected a float grid of HU values)");
         if (!meta->isType<openvdb::FloatGrid>()) {
-            fail(path, "grid '" + meta->getName() + "' is of type " + meta->type() + ", expected a float grid of HU values");
+            fail(path,
+                 "grid '" + meta->getName() + "' is of type " + meta->type() + ", expected a float grid of HU values");
         }
         const std::string name = meta->getName();
 
@@ -294,10 +300,13 @@ Volume readVdb(const std::string& path, BrickMinMax* bricks, const std::string& 
             if (!grid) {
                 const openvdb::CoordBBox slab(box.min() + openvdb::Coord(0, 0, kFirst),
                                               openvdb::Coord(box.max().x(), box.max().y(), box.min().z() + kEnd - 1));
-                grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(name, worldBoxOf(meta->transform(), slab)));
+                grid =
+                    openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(name, worldBoxOf(meta->transform(), slab)));
                 if (!grid) fail(path, "grid '" + name + "' could not be read as a float grid");
             }
-            if (!builder) builder = std::make_unique<VdbVolumeBuilder>(path, volume, box.min(), grid->background(), bricks != nullptr);
+            if (!builder)
+                builder =
+                    std::make_unique<VdbVolumeBuilder>(path, volume, box.min(), grid->background(), bricks != nullptr);
             builder->addSlab(*grid, kFirst, kEnd);
             if (whole) break;
         }
@@ -318,7 +327,8 @@ void writeVdb(const Volume& volume, const std::string& path, bool overwrite) {
     auto grid = openvdb::FloatGrid::create(kVdbBackgroundHu);
     grid->setName(kVdbGridName);
     grid->setGridClass(openvdb::GRID_UNKNOWN);
-    grid->insertMeta("cvc_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(volume.dims[0], volume.dims[1], volume.dims[2])));
+    grid->insertMeta("cvc_dims",
+                     openvdb::Vec3IMetadata(openvdb::Vec3i(volume.dims[0], volume.dims[1], volume.dims[2])));
     grid->insertMeta("units", openvdb::StringMetadata("HU"));
 
     openvdb::Mat4d m = openvdb::Mat4d::identity();

@@ -21,7 +21,8 @@ std::string writeForeignGrid(const std::string& name, const openvdb::Coord& offs
     grid->tree().fill(openvdb::CoordBBox(offset, offset + openvdb::Coord(15)), 700.0f, true);
     auto accessor = grid->getAccessor();
     for (int n = 0; n < 40; ++n) {
-        accessor.setValue(offset + openvdb::Coord((n * 7) % 29, (n * 5) % 23, (n * 3) % 71), static_cast<float>(n * 10 - 200));
+        accessor.setValue(offset + openvdb::Coord((n * 7) % 29, (n * 5) % 23, (n * 3) % 71),
+                          static_cast<float>(n * 10 - 200));
     }
     const std::string path = testing::scratchFolder(name) + "/foreign.vdb";
     openvdb::io::File file(path);
@@ -46,11 +47,11 @@ TEST(VdbForeign, UnalignedIndexBoxAndOtherBackground) {
     EXPECT_EQ(v.dims, (std::array<int, 3>{29, 23, 70}));
     EXPECT_NEAR(v.spacingMm.x, 0.5, 1e-12);
     EXPECT_NEAR(v.originLps.z, -70 * 0.5, 1e-9);
-    EXPECT_EQ(v.at(0, 0, 0), -200);         // scattered voxel n = 0 overwrote the block there
-    EXPECT_EQ(v.at(1, 1, 1), 700);          // inside the filled block
+    EXPECT_EQ(v.at(0, 0, 0), -200);  // scattered voxel n = 0 overwrote the block there
+    EXPECT_EQ(v.at(1, 1, 1), 700);   // inside the filled block
     EXPECT_EQ(v.at(15, 15, 15), 700);
-    EXPECT_EQ(v.at(20, 20, 60), -1024);     // background elsewhere
-    EXPECT_EQ(v.at(7, 5, 3), -190);         // scattered voxel n = 1
+    EXPECT_EQ(v.at(20, 20, 60), -1024);  // background elsewhere
+    EXPECT_EQ(v.at(7, 5, 3), -190);      // scattered voxel n = 1
     expectBricksMatchDense(path);
 }
 

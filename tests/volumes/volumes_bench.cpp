@@ -44,7 +44,8 @@ double peakResidentMiB() {
 
 /// The abdomen resampled to 512 x 512 x 451 over the same box (trilinear).
 volumes::Volume makeLargeCt() {
-    const volumes::Volume small = volumes::loadVolume(std::string(CVC_SHARED_DATA_DIR) + "/ct/ts_example_abdomen_3mm.nrrd");
+    const volumes::Volume small =
+        volumes::loadVolume(std::string(CVC_SHARED_DATA_DIR) + "/ct/ts_example_abdomen_3mm.nrrd");
     volumes::Volume large;
     large.dims = {512, 512, 451};
     for (int a = 0; a < 3; ++a) {
@@ -147,7 +148,8 @@ void make(const std::string& folder) {
     // gzip NRRD: the raw writer's header with the encoding changed.
     std::ifstream in(folder + "/ct.nrrd", std::ios::binary);
     std::string header, line;
-    while (std::getline(in, line) && !line.empty()) header += (line == "encoding: raw" ? "encoding: gzip" : line) + "\n";
+    while (std::getline(in, line) && !line.empty())
+        header += (line == "encoding: raw" ? "encoding: gzip" : line) + "\n";
     std::ofstream(folder + "/ct_gzip.nrrd", std::ios::binary) << header << "\n" << deflated(data, bytes, true);
 
     std::ostringstream mha;
@@ -159,14 +161,22 @@ void make(const std::string& folder) {
 
     // NIfTI-1, int16, sform from the LPS grid (RAS: x and y negated), gzip as a whole.
     std::string nifti(352, '\0');
-    auto put = [&](std::size_t offset, const auto& value) { std::memcpy(nifti.data() + offset, &value, sizeof(value)); };
+    auto put = [&](std::size_t offset, const auto& value) {
+        std::memcpy(nifti.data() + offset, &value, sizeof(value));
+    };
     put(0, int32_t{348});
     const short dim[8] = {3, 512, 512, 451, 1, 1, 1, 1};
     std::memcpy(nifti.data() + 40, dim, sizeof(dim));
     put(70, short{4});
     put(72, short{16});
-    const float pixdim[8] = {1, static_cast<float>(v.spacingMm.x), static_cast<float>(v.spacingMm.y),
-                             static_cast<float>(v.spacingMm.z), 1, 1, 1, 1};
+    const float pixdim[8] = {1,
+                             static_cast<float>(v.spacingMm.x),
+                             static_cast<float>(v.spacingMm.y),
+                             static_cast<float>(v.spacingMm.z),
+                             1,
+                             1,
+                             1,
+                             1};
     std::memcpy(nifti.data() + 76, pixdim, sizeof(pixdim));
     put(108, 352.0f);
     put(254, short{1});
@@ -183,7 +193,8 @@ void make(const std::string& folder) {
 
     volumes::writeVdb(v, folder + "/ct.vdb", true);
     writeDicomSeries(v, folder + "/dicom");
-    std::cout << "wrote 512x512x451 CT (" << static_cast<double>(bytes) / (1024.0 * 1024.0) << " MiB of int16) in 6 forms to " << folder << '\n';
+    std::cout << "wrote 512x512x451 CT (" << static_cast<double>(bytes) / (1024.0 * 1024.0)
+              << " MiB of int16) in 6 forms to " << folder << '\n';
 }
 
 void load(const std::string& path) {
@@ -193,9 +204,9 @@ void load(const std::string& path) {
     const double seconds = secondsSince(start);
     const double volumeMiB = static_cast<double>(loaded.volume.hu.size() * sizeof(int16_t)) / (1024.0 * 1024.0);
     const double peak = peakResidentMiB();
-    std::cout << volumes::volumeFormatName(loaded.format) << "\t" << path << "\tload+bricks " << seconds << " s\tvolume "
-              << volumeMiB << " MiB\tpeak RSS " << peak << " MiB (" << before << " MiB before loading)\tpeak/volume "
-              << peak / volumeMiB << "\n";
+    std::cout << volumes::volumeFormatName(loaded.format) << "\t" << path << "\tload+bricks " << seconds
+              << " s\tvolume " << volumeMiB << " MiB\tpeak RSS " << peak << " MiB (" << before
+              << " MiB before loading)\tpeak/volume " << peak / volumeMiB << "\n";
 }
 
 void bricks(const std::string& path) {
@@ -209,9 +220,9 @@ void bricks(const std::string& path) {
     }
     std::sort(times.begin(), times.end());
     std::cout << "buildBrickMinMax " << v.dims[0] << "x" << v.dims[1] << "x" << v.dims[2] << " -> "
-              << result.brickDims[0] << "x" << result.brickDims[1] << "x" << result.brickDims[2]
-              << " bricks: median " << times[3] * 1000.0 << " ms, min " << times.front() * 1000.0 << " ms, max "
-              << times.back() * 1000.0 << " ms (7 runs, " << std::thread::hardware_concurrency() << " threads)\n";
+              << result.brickDims[0] << "x" << result.brickDims[1] << "x" << result.brickDims[2] << " bricks: median "
+              << times[3] * 1000.0 << " ms, min " << times.front() * 1000.0 << " ms, max " << times.back() * 1000.0
+              << " ms (7 runs, " << std::thread::hardware_concurrency() << " threads)\n";
     if (path.size() > 4 && path.substr(path.size() - 4) == ".vdb") {
         // Leaf-based bricks cost the difference between reading with and without them.
         std::vector<double> withBricks, without;
