@@ -127,7 +127,8 @@ TEST_P(CompressedDicom, DecodesToTheSameVoxels) {
 INSTANTIATE_TEST_SUITE_P(TransferSyntaxes, CompressedDicom,
                          ::testing::Values(std::make_pair("jpeg2000", "--j2k"),
                                            std::make_pair("jpeg_lossless", "--jpeg"), std::make_pair("rle", "--rle"),
-                                           std::make_pair("jpegls", "--jpegls")),
+                                           std::make_pair("jpegls", "--jpegls"), std::make_pair("deflated", "--deflated"),
+                                           std::make_pair("explicit_little_endian", "--explicit")),
                          [](const auto& param) { return std::string(param.param.first); });
 
 }  // namespace
