@@ -28,6 +28,8 @@ TEST(Distortion, ConformalMapIsNearlyConformalAndNeverFolds) {
         const DistortionStatistics stats = distortionStatistics(cube, 1.0);
         EXPECT_GT(stats.texelCount, 60000);
         EXPECT_EQ(stats.foldedTexels, 0);
+        // No fold-over anywhere in Omega5, corners included.
+        EXPECT_EQ(distortionStatistics(cube, 0.0).foldedTexels, 0);
         // At this coarse test resolution the singular points on the ceiling's edges dominate.
         EXPECT_LT(stats.meanK - 1.0, 2e-2);
         EXPECT_LT(stats.p99K - 1.0, 0.25);

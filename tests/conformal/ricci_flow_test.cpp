@@ -124,7 +124,7 @@ TEST(RicciFlow, MillionVertexMeshConverges) {
     // Several minutes on two cores (the sparse Cholesky factorisations dominate); run with
     // CVC_LONG_TESTS=1.
     if (std::getenv("CVC_LONG_TESTS") == nullptr) GTEST_SKIP() << "set CVC_LONG_TESTS=1 to run";
-    const SphereMesh sphere = buildSphereMesh(CaveBox{}, SphereDomain::Display, {412, 1.0});
+    const SphereMesh sphere = buildSphereMesh(CaveBox{}, SphereDomain::Scene, {412, 1.75});
     ASSERT_GT(sphere.mesh.positions.size(), 1000000u);
     RiemannMapReport report;
     const auto disk = diskFromMesh(sphere.mesh, sphere.nadirVertex, RicciFlowSettings{}, &report);
