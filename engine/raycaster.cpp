@@ -89,11 +89,12 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
     const int32_t mode = settings.mode == RenderMode::Composite ? CVC_MODE_COMPOSITE : CVC_MODE_ISO;
     const int32_t filter = settings.filter == VolumeFilter::Tricubic ? CVC_FILTER_TRICUBIC : CVC_FILTER_TRILINEAR;
     const int32_t warpId = warp == WarpMode::Exact ? CVC_WARP_EXACT : warp == WarpMode::Chord ? CVC_WARP_CHORD : CVC_WARP_NONE;
-    const PipelineKey key{mode, filter, warpId, settings.isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0};
+    const PipelineKey key{mode, filter, warpId, settings.isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0,
+                          settings.isCountingFetches ? 1 : 0};
     auto& slot = mPipelines[key];
     if (!slot) {
-        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_ADAPTIVE.
-        const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key)};
+        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_COUNT_FETCHES.
+        const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key)};
         slot = std::make_unique<ComputePipeline>(
             *mContext, raycast_spv,
             std::vector<vk::DescriptorType>{vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eCombinedImageSampler,
@@ -151,14 +152,13 @@ RenderedImage Raycaster::render(const ViewRays& rays, const RenderSettings& sett
     const SampledTexture& occupancy = occupancyFor(settings);
     ComputePipeline& pipeline = pipelineFor(settings, warp.mode);
 
-    if (!mTargets || mTargets->width != rays.width || mTargets->height != rays.height) {
-        mTargets.reset();
-        mTargets = std::make_unique<Targets>(*mContext, rays.width, rays.height);
-    }
+    auto& slot = mTargets[{rays.width, rays.height}];
+    if (!slot) slot = std::make_unique<Targets>(*mContext, rays.width, rays.height);
+    Targets& targets = *slot;
     pipeline.bindBuffer(CVC_BINDING_UNIFORMS, mUniforms);
     pipeline.bindSampledImage(CVC_BINDING_VOLUME, mVolume->image(), mVolume->sampler());
-    pipeline.bindStorageImage(CVC_BINDING_COLOR_IMAGE, mTargets->color);
-    pipeline.bindStorageImage(CVC_BINDING_HIT_IMAGE, mTargets->hit);
+    pipeline.bindStorageImage(CVC_BINDING_COLOR_IMAGE, targets.color);
+    pipeline.bindStorageImage(CVC_BINDING_HIT_IMAGE, targets.hit);
     pipeline.bindSampledImage(CVC_BINDING_BRICKS, occupancy.image, occupancy.sampler);
     pipeline.bindSampledImage(CVC_BINDING_TRANSFER_FUNCTION, transfer.image, transfer.sampler);
     pipeline.bindSampledImage(CVC_BINDING_CUBE_MAP, mCubeMap.image, mCubeMap.sampler);
@@ -209,7 +209,6 @@ RenderedImage Raycaster::render(const ViewRays& rays, const RenderSettings& sett
     mUniforms.write(std::as_bytes(std::span(&u, 1)));
 
     GpuTimer timer(*mContext);
-    Targets& targets = *mTargets;
     submitAndWait(*mContext, [&](const vk::raii::CommandBuffer& commands) {
         recordImageBarrier(commands, targets.color, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);
         recordImageBarrier(commands, targets.hit, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);

@@ -44,6 +44,7 @@ struct RenderSettings {
     double fresnel = 0.04;
     double ambient = 0.10;
     bool isWritingHits = true;                    // fill RenderedImage::hitMm
+    bool isCountingFetches = false;               // benchmarks: hitMm's w = volume fetches per ray
 };
 
 /// The warp of space about the map centre (DESIGN.md "Rays"), in volume millimetres.
@@ -81,7 +82,7 @@ public:
 
 private:
     struct Targets;
-    using PipelineKey = std::tuple<int, int, int, int, int>;
+    using PipelineKey = std::tuple<int, int, int, int, int, int>;
 
     ComputePipeline& pipelineFor(const RenderSettings& settings, WarpMode warp);
     const SampledTexture& occupancyFor(const RenderSettings& settings);
@@ -97,7 +98,7 @@ private:
     std::map<std::string, SampledTexture> mOccupancy;        // by "iso:<value>" or "tf:<name>"
     std::map<std::string, SampledTexture> mTransferTextures;  // by preset name
     std::map<std::string, TransferTable> mTransferTables;
-    std::unique_ptr<Targets> mTargets;
+    std::map<std::pair<int, int>, std::unique_ptr<Targets>> mTargets;  // by image size
 };
 
 }  // namespace engine

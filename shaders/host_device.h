@@ -31,6 +31,7 @@ using uvec4 = glm::uvec4;
 #define CVC_SPEC_WARP 2        // CVC_WARP_*
 #define CVC_SPEC_SKIPPING 3    // 1: empty-space skipping over bricks
 #define CVC_SPEC_ADAPTIVE 4    // 1: adaptive step size
+#define CVC_SPEC_COUNT_FETCHES 5  // 1: hit image w = texture fetches the ray made (benchmarks)
 
 #define CVC_MODE_ISO 0
 #define CVC_MODE_COMPOSITE 1

@@ -15,6 +15,10 @@ layout(constant_id = CVC_SPEC_FILTER) const int kFilter = CVC_FILTER_TRILINEAR;
 layout(constant_id = CVC_SPEC_WARP) const int kWarp = CVC_WARP_NONE;
 layout(constant_id = CVC_SPEC_SKIPPING) const bool kSkipping = false;
 layout(constant_id = CVC_SPEC_ADAPTIVE) const bool kAdaptive = false;
+layout(constant_id = CVC_SPEC_COUNT_FETCHES) const bool kCountFetches = false;
+
+// Volume fetches this invocation made (only kept when kCountFetches: a benchmark's counter).
+uint gFetchCount = 0u;
 
 layout(std140, binding = CVC_BINDING_UNIFORMS) uniform Uniforms { RaycastUniforms u; };
 layout(binding = CVC_BINDING_VOLUME) uniform sampler3D volumeTexture;
@@ -219,5 +223,6 @@ void main() {
         }
     }
     imageStore(colorImage, ivec2(pixel), vec4(pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0));
+    if (kCountFetches) hit.w = float(gFetchCount);
     if ((u.frame.w & CVC_FLAG_WRITE_HITS) != 0u) imageStore(hitImage, ivec2(pixel), hit);
 }
