@@ -135,6 +135,9 @@ engine::RgbaImage centreCross(engine::Raycaster& raycaster, const SequenceJob& j
                                walls);
 }
 
+/// The hidden folder a frame is rendered into before it is renamed into place.
+std::string partialFolderName(int index);
+
 }  // namespace
 
 std::string frameFolderName(int index) {
@@ -142,6 +145,16 @@ std::string frameFolderName(int index) {
     name << "frame_" << std::setw(4) << std::setfill('0') << index;
     return name.str();
 }
+
+namespace {
+
+std::string partialFolderName(int index) {
+    std::ostringstream name;
+    name << '.' << frameFolderName(index) << ".partial";
+    return name.str();
+}
+
+}  // namespace
 
 SequenceSummary renderSequence(engine::Raycaster& raycaster, const SequenceJob& job, const SequenceOutput& output) {
     engine::validateDisplay(job.display);
@@ -164,7 +177,7 @@ SequenceSummary renderSequence(engine::Raycaster& raycaster, const SequenceJob& 
     for (int i = 0; i < total; ++i) {
         const fs::path finished = folder / frameFolderName(i);
         if (fs::is_directory(finished)) continue;
-        const fs::path partial = folder / ("." + frameFolderName(i) + ".partial");
+        const fs::path partial = folder / partialFolderName(i);
         fs::remove_all(partial);
         engine::ScenePose pose{job.poses[static_cast<std::size_t>(i)].positionMm, job.poses[static_cast<std::size_t>(i)].forward,
                                job.poses[static_cast<std::size_t>(i)].up, job.mmPerMetre};

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -50,13 +51,22 @@ std::vector<glm::dvec3> fromText(const std::string& path, std::istream& in) {
         line = line.substr(0, line.find('#'));
         std::replace(line.begin(), line.end(), ',', ' ');
         std::istringstream fields(line);
-        glm::dvec3 p;
-        std::string extra;
-        if (!(fields >> p.x)) continue;  // blank or comment line
-        if (!(fields >> p.y >> p.z) || (fields >> extra)) {
+        std::vector<std::string> tokens;
+        for (std::string token; fields >> token && tokens.size() < 4;) tokens.push_back(token);
+        if (tokens.empty()) continue;  // blank or comment line
+        if (tokens.size() != 3) {
             throw std::runtime_error(path + ":" + std::to_string(lineNumber) + ": expected three numbers x y z");
         }
-        points.push_back(p);
+        double xyz[3];
+        for (int k = 0; k < 3; ++k) {
+            char* end = nullptr;
+            xyz[k] = std::strtod(tokens[static_cast<std::size_t>(k)].c_str(), &end);
+            if (end == tokens[static_cast<std::size_t>(k)].c_str() || *end != '\0' || !std::isfinite(xyz[k])) {
+                throw std::runtime_error(path + ":" + std::to_string(lineNumber) + ": '" +
+                                         tokens[static_cast<std::size_t>(k)] + "' is not a finite number");
+            }
+        }
+        points.emplace_back(xyz[0], xyz[1], xyz[2]);
         if (points.size() > kMaxPoints) throw std::runtime_error(path + ": more than 10 million points");
     }
     return points;
