@@ -33,7 +33,8 @@ std::vector<engine::CameraPose> posesFrom(const RenderOptions& options) {
                 throw std::invalid_argument("--polyp " + std::to_string(options.polyp) + ": " + options.pathFile +
                                             " lists " + std::to_string(centres.size()) + " polyps");
             }
-            return {engine::poseBeneath(polyline, centres[static_cast<std::size_t>(options.polyp)], path)};
+            return {engine::poseViewing(polyline, centres[static_cast<std::size_t>(options.polyp)],
+                                        options.polypElevationDeg, path)};
         }
         auto poses = engine::posesAlong(polyline, path);
         if (options.maxFrames > 0 && static_cast<int>(poses.size()) > options.maxFrames) {
@@ -109,7 +110,7 @@ void runDisplayRender(const RenderOptions& options) {
     const volumes::LoadedVolume loaded = volumes::loadVolumeWithBricks(options.volumePath, load);
     engine::GpuContext context(engine::GpuContextOptions{false, options.device});
     engine::VolumeTexture texture(context, loaded.volume);
-    engine::Raycaster raycaster(context, texture, loaded.bricks);
+    engine::Raycaster raycaster(context, loaded.volume, texture, loaded.bricks);
     if (display.map != engine::MapChoice::None) {
         conformal::BakeSettings bake;
         bake.size = options.mapSize;

@@ -64,7 +64,7 @@ void runPinholeRender(const RenderOptions& options) {
 
     engine::GpuContext context(engine::GpuContextOptions{false, options.device});
     engine::VolumeTexture texture(context, loaded.volume);
-    engine::Raycaster raycaster(context, texture, loaded.bricks);
+    engine::Raycaster raycaster(context, loaded.volume, texture, loaded.bricks);
     const engine::RenderedImage image = raycaster.render(engine::viewRaysFrom(camera), settings);
     engine::writePng(options.outPath, image.width, image.height, image.rgba, options.force);
     if (!options.hitsPath.empty()) {
@@ -99,7 +99,7 @@ engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isD
     settings.mode = options.mode == "composite" ? engine::RenderMode::Composite : engine::RenderMode::IsoSurface;
     settings.filter = options.filter == "tricubic" ? engine::VolumeFilter::Tricubic : engine::VolumeFilter::Trilinear;
     settings.isSkipping = !options.isSkippingOff;
-    settings.lightHalfDistanceMm = options.lightHalfDistanceMm >= 0.0 ? options.lightHalfDistanceMm : isDisplay ? 40.0 : 0.0;
+    settings.lightHalfDistanceMm = options.lightHalfDistanceMm >= 0.0 ? options.lightHalfDistanceMm : isDisplay ? 25.0 : 0.0;
     if (settings.mode == engine::RenderMode::Composite) {
         engine::transferFunctionPreset(settings.transferFunction);  // a typo fails before any loading
     }
@@ -156,7 +156,11 @@ void addRenderCommand(CLI::App& program) {
     command->add_flag("--retrograde", options->isRetrograde, "Fly from the path's end to its start")->group(display);
     command->add_option("--frames", options->maxFrames, "Render at most this many frames of the path")->group(display);
     command->add_option("--polyp", options->polyp,
-                        "One pose on the path beneath polyp N of its ground truth, the polyp overhead")->group(display);
+                        "One pose on the path from which polyp N of its ground truth is seen ahead and above")
+        ->group(display);
+    command->add_option("--polyp-elevation", options->polypElevationDeg,
+                        "Degrees above the horizon at which --polyp is seen (above ~37: on the IC's ceiling)")
+        ->capture_default_str()->group(display);
 
     auto* rendering = "Rendering";
     command->add_option("--mode", options->mode, "iso (first crossing of --iso) or composite (--tf)")
@@ -176,7 +180,7 @@ void addRenderCommand(CLI::App& program) {
         ->each([&s](const std::string&) { s.isJittered = true; })->group(rendering);
     command->add_option("--light-distance", options->lightHalfDistanceMm,
                         "Distance in mm at which the headlight is half as bright (0: no falloff; default: none for "
-                        "a pinhole view, 40 for a display)")->group(rendering);
+                        "a pinhole view, 25 for a display)")->group(rendering);
     command->add_option("--device", options->device,
                         "Vulkan device: index, part of its name, 'cpu' or 'gpu' (default: $CVC_DEVICE, else the best)");
     command->callback([options] {

@@ -37,13 +37,14 @@ struct RenderOptions {
     double smoothingMm = 8.0;
     bool isRetrograde = false;
     int maxFrames = 0;  // 0: all
-    int polyp = -1;     // >= 0: one pose beneath this polyp of the path's ground truth
+    int polyp = -1;     // >= 0: one pose viewing this polyp of the path's ground truth
+    double polypElevationDeg = 60.0;  // ... seen ahead at this elevation (on the IC's ceiling)
     // Rendering
     std::string mode = "iso";
     std::string filter = "trilinear";
     bool isSkippingOff = false;
     engine::RenderSettings settings;
-    double lightHalfDistanceMm = -1.0;  // < 0: none for a pinhole view, 40 mm for a display
+    double lightHalfDistanceMm = -1.0;  // < 0: none for a pinhole view, 25 mm for a display
     std::string device;
 };
 

@@ -161,14 +161,23 @@ std::vector<CameraPose> posesAlong(const std::vector<glm::dvec3>& polyline, cons
     return poses;
 }
 
-CameraPose poseBeneath(const std::vector<glm::dvec3>& polyline, const glm::dvec3& pointMm, const PathSettings& settings) {
+CameraPose poseViewing(const std::vector<glm::dvec3>& polyline, const glm::dvec3& pointMm, double elevationDeg,
+                       const PathSettings& settings) {
+    if (!(elevationDeg > 0.0 && elevationDeg <= 90.0)) throw std::invalid_argument("elevation must be in (0, 90] degrees");
     PathSettings fine = settings;
     fine.stepMm = 0.25;
     const std::vector<CameraPose> poses = posesAlong(polyline, fine);
-    const auto nearest = std::min_element(poses.begin(), poses.end(), [&](const CameraPose& a, const CameraPose& b) {
-        return glm::length(a.positionMm - pointMm) < glm::length(b.positionMm - pointMm);
+    // Seen at elevation e above the horizon ahead, the point lies e from the view direction.
+    const double wantedAngle = glm::radians(elevationDeg);
+    const auto angleTo = [&](const CameraPose& pose) {
+        const glm::dvec3 toPoint = pointMm - pose.positionMm;
+        const double length = glm::length(toPoint);
+        return length > 0.0 ? std::acos(std::clamp(glm::dot(toPoint / length, pose.forward), -1.0, 1.0)) : 0.0;
+    };
+    const auto best = std::min_element(poses.begin(), poses.end(), [&](const CameraPose& a, const CameraPose& b) {
+        return std::abs(angleTo(a) - wantedAngle) < std::abs(angleTo(b) - wantedAngle);
     });
-    CameraPose pose = *nearest;
+    CameraPose pose = *best;
     const glm::dvec3 toPoint = pointMm - pose.positionMm;
     const glm::dvec3 up = toPoint - glm::dot(toPoint, pose.forward) * pose.forward;
     if (glm::length(up) > 1e-9) pose.up = glm::normalize(up);

@@ -39,10 +39,13 @@ struct PathSettings {
 /// std::invalid_argument for bad settings or a polyline shorter than one step.
 std::vector<CameraPose> posesAlong(const std::vector<glm::dvec3>& polyline, const PathSettings& settings);
 
-/// The pose on `polyline` nearest to `pointMm`, looking along the path in `settings`'s
-/// direction, with up turned toward the point: the point then lies overhead, where a 5-wall
-/// display has no ceiling and only the conformal map can show it.
-CameraPose poseBeneath(const std::vector<glm::dvec3>& polyline, const glm::dvec3& pointMm, const PathSettings& settings);
+/// The pose on `polyline` from which `pointMm` is seen ahead at `elevationDeg` above the
+/// horizon (90: straight overhead), looking along the path in `settings`'s direction, with up
+/// turned toward the point. At elevations above ~37 degrees the point lies on the ceiling of
+/// the Immersive Cabin, which only the conformal map brings onto the walls. Throws
+/// std::invalid_argument for an elevation outside (0, 90].
+CameraPose poseViewing(const std::vector<glm::dvec3>& polyline, const glm::dvec3& pointMm, double elevationDeg,
+                       const PathSettings& settings);
 
 /// The polyp centres ("polyps"[i]["centre_mm"]) of a phantom's JSON ground truth, in volume
 /// millimetres. Throws std::runtime_error naming the file for a missing or malformed list.

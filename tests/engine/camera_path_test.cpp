@@ -84,14 +84,20 @@ TEST(CameraPath, AntegradeAndRetrogradeAreMirrorImages) {
     }
 }
 
-TEST(CameraPath, PoseBeneathAPointPutsItOverhead) {
-    const auto line = helix();
-    const glm::dvec3 polyp(50.0 + 28.0, 50.0, 12.0);  // beside the helix near its start
+TEST(CameraPath, PoseViewingAPointSeesItAtTheAskedElevation) {
+    const std::vector<glm::dvec3> line = {{0, 0, 0}, {0, 0, 100}};
+    const glm::dvec3 polyp(11.0, 0.0, 50.0);  // on the wall of a straight 22 mm colon
     engine::PathSettings settings;
-    const auto pose = engine::poseBeneath(line, polyp, settings);
-    const glm::dvec3 toPolyp = glm::normalize(polyp - pose.positionMm);
-    EXPECT_GT(glm::dot(toPolyp, pose.up), 0.99);  // straight up, where a 5-wall display has no wall
-    EXPECT_NEAR(glm::dot(pose.forward, pose.up), 0.0, 1e-9);
+    for (double elevation : {90.0, 60.0, 45.0}) {
+        const auto pose = engine::poseViewing(line, polyp, elevation, settings);
+        const glm::dvec3 toPolyp = glm::normalize(polyp - pose.positionMm);
+        const double seen = glm::degrees(std::asin(glm::dot(toPolyp, pose.up)));
+        EXPECT_NEAR(seen, elevation, 0.5);
+        EXPECT_GE(glm::dot(toPolyp, pose.forward), -1e-9);  // ahead, never behind
+        EXPECT_NEAR(glm::dot(pose.forward, pose.up), 0.0, 1e-9);
+        EXPECT_NEAR(glm::dot(pose.forward, glm::dvec3(0, 0, 1)), 1.0, 1e-9);  // still looking along the path
+    }
+    EXPECT_THROW(engine::poseViewing(line, polyp, 0.0, settings), std::invalid_argument);
 }
 
 TEST(CameraPath, ReadsTextAndPhantomJsonAndRejectsBadFiles) {

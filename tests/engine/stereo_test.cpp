@@ -69,7 +69,7 @@ TEST_F(Stereo, DisparityHasTheClosedFormSignAndSize) {
         const volumes::Volume volume = volumes::makeBallPhantom(ball);
         const volumes::BrickMinMax bricks = volumes::buildBrickMinMax(volume);
         engine::VolumeTexture texture(context(), volume);
-        engine::Raycaster raycaster(context(), texture, bricks);
+        engine::Raycaster raycaster(context(), volume, texture, bricks);
 
         engine::ScenePose pose;
         pose.positionMm = head;
