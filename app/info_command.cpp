@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "volumes/dicom_reader.h"
 #include "volumes/load_volume.h"
 #include "volumes/volume_stats.h"
 
@@ -38,9 +39,19 @@ void runInfo(const InfoOptions& options) {
     std::ostream& out = std::cout;
     out << std::setprecision(6);
     out << "file:        " << options.path << '\n'
-        << "format:      " << volumes::volumeFormatName(loaded.format) << '\n'
-        << "dims:        " << v.dims[0] << " x " << v.dims[1] << " x " << v.dims[2] << " voxels ("
-        << v.voxelCount() << ")\n"
+        << "format:      " << volumes::volumeFormatName(loaded.format) << '\n';
+    if (loaded.format == volumes::VolumeFormat::DicomSeries) {
+        // Folders often hold scouts or reformats beside the scan: say which series was read.
+        const auto series = volumes::listDicomSeries(options.path);
+        const std::string& read = options.seriesUid.empty() ? series.front().seriesUid : options.seriesUid;
+        out << "series:      " << read << " (" << series.size() << " series in the folder";
+        for (const volumes::DicomSeriesInfo& s : series) {
+            if (s.seriesUid != read) out << "; also " << s.seriesUid << ", " << s.fileCount << " files";
+        }
+        out << ")\n";
+    }
+    out << "dims:        " << v.dims[0] << " x " << v.dims[1] << " x " << v.dims[2] << " voxels (" << v.voxelCount()
+        << ")\n"
         << "spacing:     " << v.spacingMm.x << " x " << v.spacingMm.y << " x " << v.spacingMm.z << " mm\n"
         << "extent:      " << v.extentMm().x << " x " << v.extentMm().y << " x " << v.extentMm().z << " mm\n"
         << "origin:      ";
@@ -51,8 +62,8 @@ void runInfo(const InfoOptions& options) {
         printVector(out, v.directionLps[axis]);
         out << (axis < 2 ? " " : ")\n");
     }
-    out << "HU range:    " << stats.minHu << " .. " << stats.maxHu << ", mean " << std::fixed
-        << std::setprecision(1) << stats.meanHu << '\n'
+    out << "HU range:    " << stats.minHu << " .. " << stats.maxHu << ", mean " << std::fixed << std::setprecision(1)
+        << stats.meanHu << '\n'
         << "percentiles: 1% " << stats.percentileHu[0] << ", 50% " << stats.percentileHu[1] << ", 99% "
         << stats.percentileHu[2] << " HU\n"
         << "histogram:\n";
@@ -76,8 +87,9 @@ void runInfo(const InfoOptions& options) {
 void addInfoCommand(CLI::App& program) {
     auto options = std::make_shared<InfoOptions>();
     CLI::App* command = program.add_subcommand(
-        "info", "Print a volume's grid, orientation, HU range and histogram (DICOM folder, .nrrd, .nhdr, .nii, "
-                ".nii.gz, .mha, .mhd, .vdb, raw)");
+        "info",
+        "Print a volume's grid, orientation, HU range and histogram (DICOM folder, .nrrd, .nhdr, .nii, "
+        ".nii.gz, .mha, .mhd, .vdb, raw)");
     command->add_option("FILE", options->path, "Volume file, or a folder holding one DICOM series")->required();
     command->add_option("--raw", options->rawSpec,
                         "Describe a headerless raw file: DIMS:TYPE:SPACING[:big][:skip=N], e.g. "

@@ -21,9 +21,9 @@ namespace {
 struct PhantomOptions {
     std::string kind = "colon";
     std::string outPath = "phantom.nrrd";
-    std::string truthPath;  // colon only; default: the output path with .json
-    int size = 0;           // 0: the kind's default (colon 256, ball and tube 128)
-    double spacingMm = 0.0; // 0: the kind's default (colon 0.6 mm, ball and tube 1 mm)
+    std::string truthPath;   // colon only; default: the output path with .json
+    int size = 0;            // 0: the kind's default (colon 256, ball and tube 128)
+    double spacingMm = 0.0;  // 0: the kind's default (colon 0.6 mm, ball and tube 1 mm)
     std::vector<std::string> polyps;
     double noiseSigmaHu = 15.0;
     std::uint64_t seed = 1;
@@ -103,9 +103,12 @@ void runPhantom(const PhantomOptions& options) {
 void addPhantomCommand(CLI::App& program) {
     auto options = std::make_shared<PhantomOptions>();
     CLI::App* command = program.add_subcommand(
-        "phantom", "Write a synthetic phantom volume (.nrrd, or .vdb by extension); colon also writes its ground truth as JSON");
-    command->add_option("--kind", options->kind,
-                        "colon (curved tube with folds and polyps), ball (a solid ball) or tube (an air-filled straight tube)")
+        "phantom",
+        "Write a synthetic phantom volume (.nrrd, or .vdb by extension); colon also writes its ground truth as JSON");
+    command
+        ->add_option(
+            "--kind", options->kind,
+            "colon (curved tube with folds and polyps), ball (a solid ball) or tube (an air-filled straight tube)")
         ->check(CLI::IsMember({"colon", "ball", "tube"}))
         ->capture_default_str();
     command->add_option("-o,--out", options->outPath, "Output volume (.nrrd or .vdb)")->capture_default_str();

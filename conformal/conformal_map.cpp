@@ -6,6 +6,7 @@
 #include <cmath>
 #include <future>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include <glm/geometric.hpp>
@@ -28,8 +29,8 @@ void alignCorners(std::vector<Complex>& disk, const std::array<int, 4>& corners)
 }
 
 std::vector<Complex> diskOfSphere(const SphereMesh& sphere, const RicciFlowSettings& flow,
-                                  RiemannMapReport* report) {
-    std::vector<Complex> disk = diskFromMesh(sphere.mesh, sphere.nadirVertex, flow, report);
+                                  RiemannMapReport* report, const std::vector<double>* initialLogScale) {
+    std::vector<Complex> disk = diskFromMesh(sphere.mesh, sphere.nadirVertex, flow, report, 0.0, initialLogScale);
     alignCorners(disk, sphere.cornerVertices);
     return disk;
 }
@@ -42,14 +43,21 @@ ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(set
     auto buildSide = [&settings](SphereDomain domain, SphereMesh& sphere, std::vector<Complex>& disk,
                                  RiemannMapReport* report) {
         sphere = buildSphereMesh(settings.box, domain, settings.mesh);
-        disk = diskOfSphere(sphere, settings.flow, report);
-        if (settings.isExtrapolated) {
-            SphereMeshSettings coarseSettings = settings.mesh;
-            coarseSettings.coarsening = 2;
-            const SphereMesh coarse = buildSphereMesh(settings.box, domain, coarseSettings);
-            const std::vector<Complex> coarseDisk = diskOfSphere(coarse, settings.flow, nullptr);
-            disk = extrapolateFromCoarse(sphere, disk, coarse, coarseDisk);
+        if (!settings.isExtrapolated) {
+            disk = diskOfSphere(sphere, settings.flow, report, nullptr);
+            return;
         }
+        // The half-resolution mesh first: its flow is cheap, gives the fine flow its starting
+        // point, and its map the error estimate that Richardson extrapolation removes.
+        SphereMeshSettings coarseSettings = settings.mesh;
+        coarseSettings.coarsening = 2;
+        const SphereMesh coarse = buildSphereMesh(settings.box, domain, coarseSettings);
+        RiemannMapReport coarseReport;
+        const std::vector<Complex> coarseDisk = diskOfSphere(coarse, settings.flow, &coarseReport, nullptr);
+        const LatticeParents parents = latticeParents(sphere, coarse);
+        const std::vector<double> guess = prolongFromCoarse(parents, coarseReport.vertexLogScale);
+        const std::vector<Complex> fineDisk = diskOfSphere(sphere, settings.flow, report, &guess);
+        disk = extrapolateFromCoarse(parents, fineDisk, coarseDisk);
     };
     // The two sides are independent: mesh and flow them on two threads.
     auto sceneJob = std::async(std::launch::async, [&] {
@@ -60,31 +68,54 @@ ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(set
 
     mSceneLocator = DiskLocator(mSceneDisk, mScene.mesh.triangles);
     mDisplayLocator = DiskLocator(mDisplayDisk, mDisplay.mesh.triangles);
-    // Where the maps are not smooth: the ceiling corners on both sides, and the zenith's
-    // copies on the scene side (phi6 ~ r^2 there, so its inverse is a square root).
-    std::vector<char> isSceneSingular(mScene.mesh.positions.size(), 0);
-    std::vector<char> isDisplaySingular(mDisplay.mesh.positions.size(), 0);
-    for (int k = 0; k < 4; ++k) {
-        isSceneSingular[mScene.cornerVertices[k]] = 1;
-        isDisplaySingular[mDisplay.cornerVertices[k]] = 1;
-    }
+    // Where the maps are not smooth: the ceiling corners on both sides (slit tips of Omega6,
+    // reflex corners of Omega5) and the zenith's copies on the scene side.
+    const auto corners = ceilingCornerDirections(settings.box);
     const glm::dvec3 zenithDirection =
         glm::normalize(glm::dvec3(0.0, 0.5 * settings.box.size.y, 0.0) - settings.box.mapCentre);
+    auto chartAngle = [](const glm::dvec3& at, const glm::dvec3& toward) {
+        return std::arg(SphereChart(at).chartFromDirection(toward));
+    };
+    std::vector<SingularPoint> sceneSingular;
+    std::vector<SingularPoint> displaySingular;
+    for (int k = 0; k < 4; ++k) {
+        const glm::dvec3& c = corners[k];
+        // The ceiling's spherical angle at corner k, between the edges to its neighbours.
+        double ceilingAngle = chartAngle(c, corners[(k + 3) % 4]) - chartAngle(c, corners[(k + 1) % 4]);
+        ceilingAngle = std::abs(std::remainder(ceilingAngle, 2.0 * std::numbers::pi));
+        SingularPoint reflex;
+        reflex.vertex = mDisplay.cornerVertices[k];
+        reflex.exponent = std::numbers::pi / (2.0 * std::numbers::pi - ceilingAngle);
+        reflex.wedgeAngle = chartAngle(c, zenithDirection) + std::numbers::pi;
+        displaySingular.push_back(reflex);
+        SingularPoint tip;
+        tip.vertex = mScene.cornerVertices[k];
+        tip.exponent = 0.5;
+        tip.isInverseSmooth = true;
+        sceneSingular.push_back(tip);
+    }
     for (std::size_t v = 0; v < mScene.mesh.positions.size(); ++v) {
-        if (glm::length(mScene.mesh.positions[v] - zenithDirection) < 1e-12) isSceneSingular[v] = 1;
+        if (glm::length(mScene.mesh.positions[v] - zenithDirection) > 1e-12) continue;
+        // Zenith copy of sector k: the wedge between the slit arcs to corners k and k + 1.
+        const int k = mScene.slitSector[v];
+        double sectorAngle = chartAngle(zenithDirection, corners[(k + 1) % 4]) - chartAngle(zenithDirection, corners[k]);
+        sectorAngle = std::abs(std::remainder(sectorAngle, 2.0 * std::numbers::pi));
+        SingularPoint zenith;
+        zenith.vertex = static_cast<int>(v);
+        zenith.exponent = std::numbers::pi / sectorAngle;
+        zenith.wedgeAngle = chartAngle(zenithDirection, glm::normalize(corners[k] + corners[(k + 1) % 4]));
+        sceneSingular.push_back(zenith);
     }
     mIsSmooth = settings.interpolation == MeshInterpolation::HolomorphicQuadratic;
     if (mIsSmooth) {
-        mSceneForward = SphereToPlaneInterpolant(mScene.mesh, mSceneDisk, isSceneSingular);
-        mDisplayForward = SphereToPlaneInterpolant(mDisplay.mesh, mDisplayDisk, isDisplaySingular);
-        mSceneInverse = PlaneToSphereInterpolant(mScene.mesh, mSceneDisk, isSceneSingular);
-        mDisplayInverse = PlaneToSphereInterpolant(mDisplay.mesh, mDisplayDisk, isDisplaySingular);
+        mSceneForward = SphereToPlaneInterpolant(mScene.mesh, mSceneDisk, sceneSingular);
+        mDisplayForward = SphereToPlaneInterpolant(mDisplay.mesh, mDisplayDisk, displaySingular);
+        mSceneInverse = PlaneToSphereInterpolant(mScene.mesh, mSceneDisk, sceneSingular);
+        mDisplayInverse = PlaneToSphereInterpolant(mDisplay.mesh, mDisplayDisk, displaySingular);
     }
-    const auto corners = ceilingCornerDirections(settings.box);
-    const glm::dvec3 zenith(0.0, 1.0, 0.0);
     for (int k = 0; k < 4; ++k) {
         glm::dvec3 normal = glm::normalize(glm::cross(corners[k], corners[(k + 1) % 4]));
-        if (glm::dot(normal, zenith) < 0.0) normal = -normal;
+        if (glm::dot(normal, zenithDirection) < 0.0) normal = -normal;
         mEdgeNormals[k] = normal;
     }
     mReport.sceneCorner3 = mSceneDisk[mScene.cornerVertices[3]];
@@ -101,6 +132,10 @@ Complex ConformalMap::diskFromDisplay(const glm::dvec3& display) const {
         throw std::domain_error("conformal map: the display direction is on the ceiling, "
                                 "outside Omega5");
     }
+    return displayDiskAt(location, display);
+}
+
+Complex ConformalMap::displayDiskAt(const MeshLocation& location, const glm::dvec3& display) const {
     if (mIsSmooth) return mDisplayForward.evaluate(location.triangle, location.barycentric, display);
     const auto& tri = mDisplay.mesh.triangles[location.triangle];
     return location.barycentric.x * mDisplayDisk[tri[0]] +
@@ -140,7 +175,7 @@ glm::dvec3 ConformalMap::sceneFromDisplay(const glm::dvec3& display) const {
     const glm::dvec3 d = glm::normalize(display);
     const MeshLocation location = locateDirection(mDisplay, d);
     if (location.triangle < 0) return ceilingExtension(d);
-    return sceneFromDisk(diskFromDisplay(d));
+    return sceneFromDisk(displayDiskAt(location, d));
 }
 
 glm::dvec3 ConformalMap::displayFromScene(const glm::dvec3& scene) const {

@@ -70,6 +70,7 @@ public:
 
 private:
     glm::dvec3 ceilingExtension(const glm::dvec3& display) const;
+    std::complex<double> displayDiskAt(const MeshLocation& location, const glm::dvec3& display) const;
 
     ConformalMapSettings mSettings;
     SphereMesh mScene;

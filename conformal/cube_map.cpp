@@ -180,6 +180,11 @@ CubeMap loadCubeMap(const std::filesystem::path& path) {
         map.box.mapCentre[a] = header.mapCentre[a];
     }
     map.inputHash = header.inputHash;
+    try {
+        validateCaveBox(map.box);
+    } catch (const std::invalid_argument& error) {
+        throw CubeMapFileError(name + "bad box in the header: " + error.what());
+    }
     map.rgba.resize(payload / sizeof(float));
     in.read(reinterpret_cast<char*>(map.rgba.data()), static_cast<std::streamsize>(payload));
     if (static_cast<std::uint64_t>(in.gcount()) != payload) {

@@ -52,12 +52,35 @@ std::vector<std::vector<int>> neighboursOf(const TriangleMesh& mesh) {
     return neighbours;
 }
 
-std::vector<char> linearTriangles(const TriangleMesh& mesh, const std::vector<char>& isSingular) {
-    std::vector<char> isLinear(mesh.triangles.size(), 0);
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        for (const int v : mesh.triangles[t]) isLinear[t] = isLinear[t] || isSingular[v];
+/// Per triangle, the singular point within kSingularReach mesh spacings of one of its
+/// vertices, or -1.
+std::vector<int> singularTriangles(const TriangleMesh& mesh, const std::vector<SingularPoint>& singular,
+                                   const std::vector<std::vector<int>>& neighbours) {
+    constexpr double kSingularReach = 2.5;
+    std::vector<int> ofVertex(mesh.positions.size(), -1);
+    for (std::size_t k = 0; k < singular.size(); ++k) {
+        const glm::dvec3 centre = mesh.positions[singular[k].vertex];
+        double spacing = 0.0;
+        for (const int j : neighbours[singular[k].vertex]) spacing += glm::length(mesh.positions[j] - centre);
+        spacing /= static_cast<double>(std::max<std::size_t>(neighbours[singular[k].vertex].size(), 1));
+        // Walk outwards from the singular vertex so that only its own side of a slit is taken.
+        std::vector<int> front = {singular[k].vertex};
+        ofVertex[singular[k].vertex] = static_cast<int>(k);
+        for (std::size_t i = 0; i < front.size(); ++i) {
+            for (const int j : neighbours[front[i]]) {
+                if (ofVertex[j] >= 0 || glm::length(mesh.positions[j] - centre) > kSingularReach * spacing) continue;
+                ofVertex[j] = static_cast<int>(k);
+                front.push_back(j);
+            }
+        }
     }
-    return isLinear;
+    std::vector<int> ofTriangle(mesh.triangles.size(), -1);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        for (const int v : mesh.triangles[t]) {
+            if (ofVertex[v] >= 0) ofTriangle[t] = ofVertex[v];
+        }
+    }
+    return ofTriangle;
 }
 
 }  // namespace
@@ -78,9 +101,10 @@ glm::dvec3 SphereChart::directionFromChart(Complex w) const {
 }
 
 SphereToPlaneInterpolant::SphereToPlaneInterpolant(const TriangleMesh& sphere, const std::vector<Complex>& values,
-                                                   const std::vector<char>& isSingular)
-    : mMesh(&sphere), mValues(&values), mIsLinearTriangle(linearTriangles(sphere, isSingular)) {
+                                                   const std::vector<SingularPoint>& singular)
+    : mMesh(&sphere), mValues(&values), mSingular(singular) {
     const auto neighbours = neighboursOf(sphere);
+    mSingularOfTriangle = singularTriangles(sphere, singular, neighbours);
     const std::size_t n = sphere.positions.size();
     mCharts.resize(n);
     mLinear.assign(n, Complex(0.0));
@@ -103,23 +127,32 @@ Complex SphereToPlaneInterpolant::evaluate(int triangle, const glm::dvec3& baryc
                                            const glm::dvec3& direction) const {
     const auto& tri = mMesh->triangles[triangle];
     const auto& values = *mValues;
+    if (const int s = mSingularOfTriangle[triangle]; s >= 0) {
+        // zeta - zeta_s ~ w^exponent: interpolate its exponent-th root, which is smooth.
+        const SingularPoint& point = mSingular[s];
+        const Complex apex = values[point.vertex];
+        const Complex inward = -apex / std::abs(apex);
+        Complex root(0.0);
+        for (int k = 0; k < 3; ++k) {
+            const Complex offset = (values[tri[k]] - apex) / inward;
+            if (std::abs(offset) > 0.0) root += barycentric[k] * std::pow(offset, 1.0 / point.exponent);
+        }
+        return apex + inward * (std::abs(root) > 0.0 ? std::pow(root, point.exponent) : Complex(0.0));
+    }
     Complex sum(0.0);
     for (int k = 0; k < 3; ++k) {
         const int v = tri[k];
-        Complex value = values[v];
-        if (!mIsLinearTriangle[triangle]) {
-            const Complex w = mCharts[v].chartFromDirection(direction);
-            value += w * (mLinear[v] + w * mQuadratic[v]);
-        }
-        sum += barycentric[k] * value;
+        const Complex w = mCharts[v].chartFromDirection(direction);
+        sum += barycentric[k] * (values[v] + w * (mLinear[v] + w * mQuadratic[v]));
     }
     return sum;
 }
 
 PlaneToSphereInterpolant::PlaneToSphereInterpolant(const TriangleMesh& sphere, const std::vector<Complex>& values,
-                                                   const std::vector<char>& isSingular)
-    : mMesh(&sphere), mValues(&values), mIsLinearTriangle(linearTriangles(sphere, isSingular)) {
+                                                   const std::vector<SingularPoint>& singular)
+    : mMesh(&sphere), mValues(&values), mSingular(singular) {
     const auto neighbours = neighboursOf(sphere);
+    mSingularOfTriangle = singularTriangles(sphere, singular, neighbours);
     const std::size_t n = sphere.positions.size();
     mCharts.resize(n);
     mLinear.assign(n, Complex(0.0));
@@ -142,15 +175,24 @@ glm::dvec3 PlaneToSphereInterpolant::evaluate(int triangle, const glm::dvec3& ba
     const auto& tri = mMesh->triangles[triangle];
     const auto& values = *mValues;
     const auto& positions = mMesh->positions;
+    if (const int s = mSingularOfTriangle[triangle]; s >= 0 && !mSingular[s].isInverseSmooth) {
+        // w_s ~ (zeta - zeta_s)^(1 / exponent): interpolate w_s^exponent, which is smooth.
+        const SingularPoint& point = mSingular[s];
+        const SphereChart& chart = mCharts[point.vertex];
+        const Complex bisector = std::polar(1.0, point.wedgeAngle);
+        Complex power(0.0);
+        for (int k = 0; k < 3; ++k) {
+            const Complex w = chart.chartFromDirection(positions[tri[k]]) / bisector;
+            if (std::abs(w) > 0.0) power += barycentric[k] * std::pow(w, point.exponent);
+        }
+        const Complex w = std::abs(power) > 0.0 ? std::pow(power, 1.0 / point.exponent) : Complex(0.0);
+        return glm::normalize(chart.directionFromChart(w * bisector));
+    }
     glm::dvec3 sum(0.0);
     for (int k = 0; k < 3; ++k) {
         const int v = tri[k];
-        if (mIsLinearTriangle[triangle]) {
-            sum += barycentric[k] * positions[v];
-        } else {
-            const Complex z = zeta - values[v];
-            sum += barycentric[k] * mCharts[v].directionFromChart(z * (mLinear[v] + z * mQuadratic[v]));
-        }
+        const Complex z = zeta - values[v];
+        sum += barycentric[k] * mCharts[v].directionFromChart(z * (mLinear[v] + z * mQuadratic[v]));
     }
     return glm::normalize(sum);
 }

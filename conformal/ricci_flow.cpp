@@ -122,7 +122,8 @@ bool triangleAnglesFromLengths(const std::array<double, 3>& lengths, std::array<
 
 RicciFlowResult flowToTargetCurvature(const TriangleMesh& mesh,
                                       const std::vector<double>& targetCurvature,
-                                      const RicciFlowSettings& settings) {
+                                      const RicciFlowSettings& settings,
+                                      const std::vector<double>* initialLogScale) {
     const std::size_t vertexCount = mesh.positions.size();
     const std::size_t triangleCount = mesh.triangles.size();
     if (targetCurvature.size() != vertexCount) {
@@ -181,6 +182,19 @@ RicciFlowResult flowToTargetCurvature(const TriangleMesh& mesh,
     if (!lengthsFromLogScale(mesh, data, u, lengths, result.cornerAngles)) {
         throw RicciFlowError("Ricci flow: the input mesh has a degenerate triangle");
     }
+    if (initialLogScale != nullptr && initialLogScale->size() == vertexCount) {
+        std::vector<double> guess = u;
+        for (std::size_t v = 0; v < vertexCount; ++v) {
+            if (std::isfinite((*initialLogScale)[v])) guess[v] += (*initialLogScale)[v];
+        }
+        std::vector<std::array<double, 3>> guessLengths(triangleCount);
+        std::vector<std::array<double, 3>> guessAngles(triangleCount);
+        if (lengthsFromLogScale(mesh, data, guess, guessLengths, guessAngles)) {
+            u.swap(guess);
+            lengths.swap(guessLengths);
+            result.cornerAngles.swap(guessAngles);
+        }
+    }
     std::vector<double> curvature(vertexCount);
     std::vector<double> residual(vertexCount);
     auto updateResidual = [&](const std::vector<std::array<double, 3>>& angles) {
@@ -206,6 +220,9 @@ RicciFlowResult flowToTargetCurvature(const TriangleMesh& mesh,
     std::vector<std::array<double, 3>> trialLengths(triangleCount);
     std::vector<std::array<double, 3>> trialAngles(triangleCount);
 
+    constexpr double kReuseFactorisationBelow = 1e-3;
+    bool mustRefactorise = true;
+    double previousMax = maxError;
     while (!(maxError < settings.tolerance)) {
         if (result.iterations >= settings.maxIterations) {
             std::ostringstream message;
@@ -214,6 +231,10 @@ RicciFlowResult flowToTargetCurvature(const TriangleMesh& mesh,
                     << settings.tolerance << ")";
             throw RicciFlowError(message.str());
         }
+        // Near the solution the Hessian hardly changes: keep its factorisation (a chord step,
+        // linear convergence at a small rate) as long as each step cuts the residual tenfold.
+        const bool isStaleEnough = isAnalysed && maxError < kReuseFactorisationBelow && !mustRefactorise;
+        if (!isStaleEnough) {
         // Hessian d K / d u: a Laplacian with the metric's edge weights.
         triplets.clear();
         for (std::size_t t = 0; t < triangleCount; ++t) {
@@ -244,6 +265,8 @@ RicciFlowResult flowToTargetCurvature(const TriangleMesh& mesh,
         if (solver.info() != Eigen::Success) {
             throw RicciFlowError("Ricci flow: sparse Cholesky factorisation of the Hessian failed "
                                  "at Newton step " + std::to_string(result.iterations));
+        }
+        ++result.factorisations;
         }
         Eigen::VectorXd rhs(static_cast<Eigen::Index>(vertexCount));
         for (std::size_t v = 0; v < vertexCount; ++v) rhs[static_cast<Eigen::Index>(v)] = -residual[v];
@@ -284,6 +307,8 @@ RicciFlowResult flowToTargetCurvature(const TriangleMesh& mesh,
             fraction *= 0.5;
         }
         result.stepHalvings += halvings;
+        mustRefactorise = halvings > 0 || maxError > 0.1 * previousMax;
+        previousMax = maxError;
         u.swap(trialU);
         lengths.swap(trialLengths);
         result.cornerAngles.swap(trialAngles);

@@ -34,6 +34,7 @@ struct RicciFlowResult {
     std::vector<std::array<double, 3>> edgeLengths;     ///< per triangle, edge opposite corner k
     std::vector<std::array<double, 3>> cornerAngles;    ///< per triangle, angle at corner k
     int iterations = 0;
+    int factorisations = 0;           ///< Hessian factorisations (steps near the end reuse one)
     int stepHalvings = 0;             ///< total step halvings the step control needed
     double maxCurvatureError = 0.0;   ///< max_i |Kbar_i - K_i| at the end (radians)
 };
@@ -51,9 +52,12 @@ public:
 /// (sum = 2 pi chi). One vertex is pinned (u = 0) to fix the global scale. Every Newton step
 /// is halved until all triangles keep their triangle inequalities, no value is NaN and the
 /// curvature residual's 2-norm decreases. Throws RicciFlowError on failure.
+/// `initialLogScale` (#V, optional) starts the flow from that u instead of 0, e.g. from a
+/// coarser mesh's solution; it is ignored when it would break a triangle.
 RicciFlowResult flowToTargetCurvature(const TriangleMesh& mesh,
                                       const std::vector<double>& targetCurvature,
-                                      const RicciFlowSettings& settings);
+                                      const RicciFlowSettings& settings,
+                                      const std::vector<double>* initialLogScale = nullptr);
 
 /// Angles (radians) of a triangle with side lengths a, b, c (side k opposite corner k), by the
 /// half-angle formula, which stays accurate for needle-like triangles. Returns false when the

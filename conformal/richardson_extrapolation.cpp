@@ -1,8 +1,10 @@
-/// @brief Richardson extrapolation over the box lattice shared by a mesh and its coarse
-/// companion.
+/// @brief Richardson extrapolation and prolongation over the box lattice shared by a mesh and
+/// its coarse companion.
 #include "conformal/richardson_extrapolation.h"
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -29,8 +31,7 @@ std::unordered_map<std::uint64_t, int> indexByLattice(const SphereMesh& mesh) {
 
 }  // namespace
 
-std::vector<Complex> extrapolateFromCoarse(const SphereMesh& fine, const std::vector<Complex>& fineDisk,
-                                           const SphereMesh& coarse, const std::vector<Complex>& coarseDisk) {
+LatticeParents latticeParents(const SphereMesh& fine, const SphereMesh& coarse) {
     for (int axis = 0; axis < 3; ++axis) {
         if (fine.gridLines[axis].size() != 2 * coarse.gridLines[axis].size() - 1) {
             throw std::invalid_argument("Richardson extrapolation: the coarse mesh does not have "
@@ -42,15 +43,22 @@ std::vector<Complex> extrapolateFromCoarse(const SphereMesh& fine, const std::ve
     const int half = static_cast<int>(fine.gridLines[0].size() - 1) / 2;
     const int top = static_cast<int>(fine.gridLines[1].size() - 1);
 
-    // The difference f_h - f_2h at a vertex both meshes share.
-    auto differenceAt = [&](const std::array<int, 3>& lattice, int sector) {
+    LatticeParents parents;
+    const std::size_t n = fine.mesh.positions.size();
+    parents.fineIndex.assign(n, {-1, -1, -1, -1});
+    parents.coarseIndex.assign(n, {-1, -1, -1, -1});
+    parents.count.assign(n, 0);
+    // Records a vertex both meshes share as a parent of fine vertex v.
+    auto addParent = [&](std::size_t v, const std::array<int, 3>& lattice, int sector) {
         const auto f = fineIndex.find(latticeKey(lattice, sector));
         const std::array<int, 3> coarseLattice = {lattice[0] / 2, lattice[1] / 2, lattice[2] / 2};
         const auto c = coarseIndex.find(latticeKey(coarseLattice, sector));
         if (f == fineIndex.end() || c == coarseIndex.end()) {
             throw std::invalid_argument("Richardson extrapolation: a shared vertex is missing");
         }
-        return fineDisk[f->second] - coarseDisk[c->second];
+        const int k = parents.count[v]++;
+        parents.fineIndex[v][k] = f->second;
+        parents.coarseIndex[v][k] = c->second;
     };
     // A ceiling vertex on a diagonal (but not a corner) exists once per sector.
     auto isSlitPoint = [&](const std::array<int, 3>& lattice) {
@@ -59,28 +67,24 @@ std::vector<Complex> extrapolateFromCoarse(const SphereMesh& fine, const std::ve
         return lattice[1] == top && std::abs(dx) == std::abs(dz) && std::abs(dx) != half;
     };
 
-    std::vector<Complex> result(fineDisk.size());
-    for (std::size_t v = 0; v < fineDisk.size(); ++v) {
+    for (std::size_t v = 0; v < n; ++v) {
         const auto& lattice = fine.lattice[v];
         const int sector = fine.slitSector[v];
-        Complex difference(0.0);
         const bool isShared = lattice[0] % 2 == 0 && lattice[1] % 2 == 0 && lattice[2] % 2 == 0;
         if (isShared) {
-            difference = differenceAt(lattice, sector);
+            addParent(v, lattice, sector);
         } else if (sector >= 0) {
-            // On the slit: interpolate along the diagonal, on this copy's side.
+            // On the slit: the two neighbours along the diagonal, on this copy's side.
             const int sx = lattice[0] > half ? 1 : -1;
             const int sz = lattice[2] > half ? 1 : -1;
             const std::array<int, 3> inner = {lattice[0] - sx, lattice[1], lattice[2] - sz};
             const std::array<int, 3> outer = {lattice[0] + sx, lattice[1], lattice[2] + sz};
-            difference = 0.5 * (differenceAt(inner, isSlitPoint(inner) ? sector : -1) +
-                                differenceAt(outer, isSlitPoint(outer) ? sector : -1));
+            addParent(v, inner, isSlitPoint(inner) ? sector : -1);
+            addParent(v, outer, isSlitPoint(outer) ? sector : -1);
         } else {
-            // Average over the neighbours on the odd grid lines: 2 along an edge, 4 in a cell.
-            const int ownSector = lattice[1] == top
-                                      ? ceilingSectorOf(lattice[0] - half, lattice[2] - half)
-                                      : -1;
-            int parents = 0;
+            // The neighbours on the odd grid lines: 2 along an edge, 4 in a cell.
+            const int ownSector =
+                lattice[1] == top ? ceilingSectorOf(lattice[0] - half, lattice[2] - half) : -1;
             for (int ox = -1; ox <= 1; ox += 2) {
                 for (int oy = -1; oy <= 1; oy += 2) {
                     for (int oz = -1; oz <= 1; oz += 2) {
@@ -94,15 +98,40 @@ std::vector<Complex> extrapolateFromCoarse(const SphereMesh& fine, const std::ve
                                 isDuplicate = true;  // even axes contribute one offset only
                             }
                         }
-                        if (isDuplicate) continue;
-                        difference += differenceAt(p, isSlitPoint(p) ? ownSector : -1);
-                        ++parents;
+                        if (!isDuplicate) addParent(v, p, isSlitPoint(p) ? ownSector : -1);
                     }
                 }
             }
-            difference /= static_cast<double>(parents);
         }
-        result[v] = fineDisk[v] + difference / 3.0;
+    }
+    return parents;
+}
+
+std::vector<Complex> extrapolateFromCoarse(const LatticeParents& parents, const std::vector<Complex>& fineDisk,
+                                           const std::vector<Complex>& coarseDisk) {
+    std::vector<Complex> result(fineDisk.size());
+    for (std::size_t v = 0; v < fineDisk.size(); ++v) {
+        Complex difference(0.0);
+        for (int k = 0; k < parents.count[v]; ++k) {
+            difference += fineDisk[parents.fineIndex[v][k]] - coarseDisk[parents.coarseIndex[v][k]];
+        }
+        result[v] = fineDisk[v] + difference / (3.0 * parents.count[v]);
+    }
+    return result;
+}
+
+std::vector<double> prolongFromCoarse(const LatticeParents& parents, const std::vector<double>& coarseValues) {
+    std::vector<double> result(parents.count.size(), std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t v = 0; v < result.size(); ++v) {
+        double sum = 0.0;
+        int used = 0;
+        for (int k = 0; k < parents.count[v]; ++k) {
+            const double value = coarseValues[parents.coarseIndex[v][k]];
+            if (std::isnan(value)) continue;
+            sum += value;
+            ++used;
+        }
+        if (used > 0) result[v] = sum / used;
     }
     return result;
 }

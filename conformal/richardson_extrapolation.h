@@ -1,7 +1,10 @@
-/// @brief Richardson extrapolation of a disk map from a mesh and its half-resolution companion:
-/// the Ricci-flow map's vertex error is smooth and O(h^2), so 4/3 f_h - 1/3 f_2h cancels it.
+/// @brief Transfers between a sphere mesh and its half-resolution companion (every other grid
+/// line): Richardson extrapolation of a disk map, whose vertex error is smooth and O(h^2) so
+/// that f_h + (f_h - f_2h) / 3 cancels it, and prolongation of coarse vertex data to start
+/// the fine flow near its solution.
 #pragma once
 
+#include <array>
 #include <complex>
 #include <vector>
 
@@ -9,15 +12,26 @@
 
 namespace conformal {
 
-/// Returns f*(v) = f_h(v) + (f_h(v) - f_2h(v)) / 3 for every vertex v of `fine`. The difference
-/// f_h - f_2h is exact at the vertices the meshes share (every other grid line) and is
-/// interpolated along grid lines elsewhere (its second derivatives are O(h^2), so this costs
-/// O(h^4)); copies along the slit keep to their own side. `coarse` must have been built with
-/// the same box and settings as `fine` but coarsening 2. Throws std::invalid_argument if the
-/// meshes do not match.
-std::vector<std::complex<double>> extrapolateFromCoarse(const SphereMesh& fine,
+/// For each vertex of the fine mesh, the shared vertices (1, 2 or 4, on the coarse lattice)
+/// whose average stands for it: itself when shared, else its neighbours along the odd grid
+/// lines; copies along the slit keep to their own side.
+struct LatticeParents {
+    std::vector<std::array<int, 4>> fineIndex;    ///< parents as fine-mesh vertices
+    std::vector<std::array<int, 4>> coarseIndex;  ///< the same parents as coarse-mesh vertices
+    std::vector<int> count;                       ///< 1, 2 or 4 per fine vertex
+};
+
+/// Throws std::invalid_argument unless `coarse` was built like `fine` with coarsening 2.
+LatticeParents latticeParents(const SphereMesh& fine, const SphereMesh& coarse);
+
+/// f*(v) = f_h(v) + (f_h - f_2h)(v) / 3, the difference taken at the parents (exact where
+/// shared, averaged along grid lines elsewhere: its second derivatives are O(h^2), so this
+/// costs O(h^4)).
+std::vector<std::complex<double>> extrapolateFromCoarse(const LatticeParents& parents,
                                                         const std::vector<std::complex<double>>& fineDisk,
-                                                        const SphereMesh& coarse,
                                                         const std::vector<std::complex<double>>& coarseDisk);
+
+/// Coarse vertex values averaged onto the fine mesh; NaN parents are skipped (NaN if all are).
+std::vector<double> prolongFromCoarse(const LatticeParents& parents, const std::vector<double>& coarseValues);
 
 }  // namespace conformal

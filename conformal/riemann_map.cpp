@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -123,7 +124,7 @@ void fillHole(const TriangleMesh& mesh, const glm::dvec3& centre, double filled,
 
 std::vector<Complex> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
                                   const RicciFlowSettings& settings, RiemannMapReport* report,
-                                  double holeAngle) {
+                                  double holeAngle, const std::vector<double>* initialLogScale) {
     const int vertexCount = static_cast<int>(mesh.positions.size());
     if (centreVertex < 0 || centreVertex >= vertexCount) {
         throw std::runtime_error("Riemann map: centre vertex " + std::to_string(centreVertex) +
@@ -180,7 +181,15 @@ std::vector<Complex> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
     // Flat cylinder: zero curvature at every vertex, so both boundaries become geodesics.
     RiemannMapReport localReport;
     RiemannMapReport& out = report ? *report : localReport;
-    out.flow = flowToTargetCurvature(flowMesh, std::vector<double>(flowCount, 0.0), settings);
+    std::vector<double> flowGuess;
+    if (initialLogScale != nullptr && static_cast<int>(initialLogScale->size()) == vertexCount) {
+        flowGuess.resize(flowCount);
+        for (int v = 0; v < flowCount; ++v) flowGuess[v] = (*initialLogScale)[originalIndex[v]];
+    }
+    out.flow = flowToTargetCurvature(flowMesh, std::vector<double>(flowCount, 0.0), settings,
+                                     flowGuess.empty() ? nullptr : &flowGuess);
+    out.vertexLogScale.assign(vertexCount, std::numeric_limits<double>::quiet_NaN());
+    for (int v = 0; v < flowCount; ++v) out.vertexLogScale[originalIndex[v]] = out.flow.logScale[v];
     const auto& lengths = out.flow.edgeLengths;
     const auto& angles = out.flow.cornerAngles;
 

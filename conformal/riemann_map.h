@@ -16,6 +16,7 @@ struct RiemannMapReport {
     double outerRadiusError = 0.0;    ///< max | |w| - 1 | over the outer boundary's vertices
     double innerRadius = 0.0;         ///< radius of the punched hole's image circle
     double seamMismatch = 0.0;        ///< max |w| difference between a vertex's layout copies
+    std::vector<double> vertexLogScale;  ///< the flow's u per vertex of the input mesh (NaN in the hole)
 };
 
 /// Maps the vertices of `mesh` (a triangulated topological disk, CCW seen from outside) to the
@@ -29,10 +30,12 @@ struct RiemannMapReport {
 /// fitted to the rings around it, which also removes the rim's forced roundness.
 /// Returns #V disk positions. Throws RicciFlowError or std::runtime_error on failure.
 /// `holeAngle` is the hole's angular radius (radians) around the centre on the unit sphere:
-/// 0 (the default) removes just the centre's star.
+/// 0 (the default) removes just the centre's star. `initialLogScale` (#V, optional, NaN
+/// allowed) starts the flow near its solution, e.g. from vertexLogScale of a coarser mesh.
 std::vector<std::complex<double>> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
                                                const RicciFlowSettings& settings,
                                                RiemannMapReport* report = nullptr,
-                                               double holeAngle = 0.0);
+                                               double holeAngle = 0.0,
+                                               const std::vector<double>* initialLogScale = nullptr);
 
 }  // namespace conformal

@@ -22,10 +22,10 @@ enum class SphereDomain {
 struct SphereMeshSettings {
     /// Grid segments along the longest box edge; the others get proportionally many (counts
     /// rounded to multiples of 4, at least 4). Vertices: about 6 resolution^2 for a cube.
-    int resolution = 128;
+    int resolution = 112;
     /// Grading exponent p >= 1 of the grid lines toward the box edges and hence the corners,
     /// where the maps are singular: t -> t^p / (t^p + (1 - t)^p). 1 is a uniform grid.
-    double grading = 1.0;
+    double grading = 1.75;
     /// 1 for the mesh itself; 2 for its coarse companion with every other grid line (the
     /// same lines, so its vertices are a subset), used for Richardson extrapolation.
     int coarsening = 1;

@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-20}
-build_dir=${2:-build-fuzz}
+build_dir=$(realpath -m "${2:-build-fuzz}")
 
 CXX=clang++ cmake -S fuzz -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
 cmake --build "$build_dir" --parallel "$(nproc 2>/dev/null || echo 2)"
@@ -14,11 +14,11 @@ cmake --build "$build_dir" --parallel "$(nproc 2>/dev/null || echo 2)"
 root=$(pwd)
 for target in fuzz_nrrd fuzz_metaimage fuzz_raw_spec; do
   seeds="$root/fuzz/corpus/${target#fuzz_}"
-  work="$root/$build_dir/corpus/$target"
+  work="$build_dir/corpus/$target"
   mkdir -p "$work"
   echo "fuzz: $target for ${seconds}s"
   # New inputs go to the scratch corpus; the checked-in seeds are only read. A failing input
   # is saved as $build_dir/<target>-crash-*.
-  "$root/$build_dir/$target" -max_total_time="$seconds" -max_len=4096 -rss_limit_mb=1024 -timeout=10 \
-    -print_final_stats=1 -artifact_prefix="$root/$build_dir/$target-" "$work" "$seeds" 2>&1 | tail -n 6
+  "$build_dir/$target" -max_total_time="$seconds" -max_len=4096 -rss_limit_mb=1024 -timeout=10 \
+    -print_final_stats=1 -artifact_prefix="$build_dir/$target-" "$work" "$seeds" 2>&1 | tail -n 6
 done

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "volumes/parallel_for.h"
+
 namespace volumes {
 namespace {
 
@@ -23,20 +25,25 @@ void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& i
     outMax.assign(outCount, 0);
 
     // Strides of the reduced axis in input and output; lines run along it.
-    const std::size_t inStride = axis == 0 ? 1 : axis == 1 ? static_cast<std::size_t>(extents[0])
-                                                            : static_cast<std::size_t>(extents[0]) * extents[1];
-    const std::size_t outStride = axis == 0 ? 1 : axis == 1 ? static_cast<std::size_t>(outExtents[0])
-                                                             : static_cast<std::size_t>(outExtents[0]) * outExtents[1];
-    const std::array<int, 3> lineExtents{axis == 0 ? 1 : extents[0], axis == 1 ? 1 : extents[1], axis == 2 ? 1 : extents[2]};
-    for (int c = 0; c < lineExtents[2]; ++c) {
+    const std::size_t inStride = axis == 0   ? 1
+                                 : axis == 1 ? static_cast<std::size_t>(extents[0])
+                                             : static_cast<std::size_t>(extents[0]) * extents[1];
+    const std::size_t outStride = axis == 0   ? 1
+                                  : axis == 1 ? static_cast<std::size_t>(outExtents[0])
+                                              : static_cast<std::size_t>(outExtents[0]) * outExtents[1];
+    const std::array<int, 3> lineExtents{axis == 0 ? 1 : extents[0], axis == 1 ? 1 : extents[1],
+                                         axis == 2 ? 1 : extents[2]};
+    // Planes of lines are independent: one per parallel item.
+    parallelFor(lineExtents[2], [&](int c) {
         for (int b = 0; b < lineExtents[1]; ++b) {
             for (int a = 0; a < lineExtents[0]; ++a) {
                 const std::size_t inBase = static_cast<std::size_t>(a) +
                                            static_cast<std::size_t>(extents[0]) *
                                                (static_cast<std::size_t>(b) + static_cast<std::size_t>(extents[1]) * c);
-                const std::size_t outBase = static_cast<std::size_t>(a) +
-                                            static_cast<std::size_t>(outExtents[0]) *
-                                                (static_cast<std::size_t>(b) + static_cast<std::size_t>(outExtents[1]) * c);
+                const std::size_t outBase =
+                    static_cast<std::size_t>(a) +
+                    static_cast<std::size_t>(outExtents[0]) *
+                        (static_cast<std::size_t>(b) + static_cast<std::size_t>(outExtents[1]) * c);
                 for (int brick = 0; brick < bricks; ++brick) {
                     const int first = std::max(brick * brickSize - 1, 0);
                     const int last = std::min(brick * brickSize + brickSize, n - 1);
@@ -51,7 +58,7 @@ void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& i
                 }
             }
         }
-    }
+    });
 }
 
 }  // namespace
@@ -108,7 +115,8 @@ std::vector<uint8_t> bricksForOpacity(const BrickMinMax& bricks, const OpacityTa
     for (std::size_t b = 0; b < mask.size(); ++b) {
         const long long first = std::max(binOf(bricks.minHu[b]) - 1, 0LL);
         const long long last = std::min(binOf(bricks.maxHu[b]) + 1, binCount - 1);
-        mask[b] = visibleBefore[static_cast<std::size_t>(last) + 1] > visibleBefore[static_cast<std::size_t>(first)] ? 1 : 0;
+        mask[b] =
+            visibleBefore[static_cast<std::size_t>(last) + 1] > visibleBefore[static_cast<std::size_t>(first)] ? 1 : 0;
     }
     return mask;
 }

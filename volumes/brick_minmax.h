@@ -33,7 +33,8 @@ struct BrickMinMax {
     [[nodiscard]] std::size_t brickIndex(int bx, int by, int bz) const {
         return static_cast<std::size_t>(bx) +
                static_cast<std::size_t>(brickDims[0]) *
-                   (static_cast<std::size_t>(by) + static_cast<std::size_t>(brickDims[1]) * static_cast<std::size_t>(bz));
+                   (static_cast<std::size_t>(by) +
+                    static_cast<std::size_t>(brickDims[1]) * static_cast<std::size_t>(bz));
     }
 };
 

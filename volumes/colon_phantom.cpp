@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <exception>
-#include <functional>
 #include <limits>
-#include <mutex>
-#include <thread>
 
 #include <nlohmann/json.hpp>
+
+#include "volumes/parallel_for.h"
 
 namespace volumes {
 namespace {
@@ -20,7 +18,9 @@ constexpr double kCentrelineStepMm = 1.0;
 /// Voxels are classified in slabs of this many z layers (bounded scratch memory, one per thread).
 constexpr int kSlabLayers = 16;
 
-[[noreturn]] void fail(const std::string& problem) { throw VolumeError("colon phantom: " + problem); }
+[[noreturn]] void fail(const std::string& problem) {
+    throw VolumeError("colon phantom: " + problem);
+}
 
 /// Catmull-Rom spline through `points`, sampled every ~kCentrelineStepMm along its length.
 std::vector<glm::dvec3> smoothPolyline(const std::vector<glm::dvec3>& points) {
@@ -164,25 +164,6 @@ double gaussianAt(std::uint64_t seed, std::uint64_t n) {
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
 }
 
-void runInParallel(int count, const std::function<void(int)>& job) {
-    const int threads = std::max(1, std::min<int>(static_cast<int>(std::thread::hardware_concurrency()), count));
-    std::vector<std::thread> pool;
-    std::exception_ptr error;
-    std::mutex errorMutex;
-    for (int t = 0; t < threads; ++t) {
-        pool.emplace_back([&, t] {
-            try {
-                for (int i = t; i < count; i += threads) job(i);
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(errorMutex);
-                error = std::current_exception();
-            }
-        });
-    }
-    for (std::thread& thread : pool) thread.join();
-    if (error) std::rethrow_exception(error);
-}
-
 }  // namespace
 
 std::vector<PolypSpec> ColonPhantomSpec::defaultPolyps() {
@@ -218,8 +199,8 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
         for (int a = 0; a < 3; ++a) {
             if (p[a] < outerMm || p[a] > extent[a] - outerMm) {
                 fail("the grid (" + std::to_string(extent.x) + " x " + std::to_string(extent.y) + " x " +
-                     std::to_string(extent.z) + " mm) is too small for a tube of outer radius " + std::to_string(outerMm) +
-                     " mm (use more voxels, larger spacing or a smaller lumen)");
+                     std::to_string(extent.z) + " mm) is too small for a tube of outer radius " +
+                     std::to_string(outerMm) + " mm (use more voxels, larger spacing or a smaller lumen)");
             }
         }
     }
@@ -228,8 +209,10 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
     // Polyps: on the wall at their arc and angle, base normal pointing into the lumen.
     std::vector<PolypSolid> polyps;
     for (const PolypSpec& p : spec.polyps) {
-        if (!(p.diameterMm >= 3.0 && p.diameterMm <= 15.0)) fail("polyp diameter " + std::to_string(p.diameterMm) + " mm is outside 3..15 mm");
-        if (!(p.arcFraction >= 0.0 && p.arcFraction <= 1.0)) fail("polyp position " + std::to_string(p.arcFraction) + " is outside 0..1");
+        if (!(p.diameterMm >= 3.0 && p.diameterMm <= 15.0))
+            fail("polyp diameter " + std::to_string(p.diameterMm) + " mm is outside 3..15 mm");
+        if (!(p.arcFraction >= 0.0 && p.arcFraction <= 1.0))
+            fail("polyp position " + std::to_string(p.arcFraction) + " is outside 0..1");
         if (!std::isfinite(p.angleDeg)) fail("polyp angle is not finite");
         PolypSolid solid;
         PolypTruth& truth = solid.truth;
@@ -247,8 +230,9 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
             truth.centreMm = truth.baseMm;  // half the sphere stands in the lumen: a hemisphere
         } else {
             if (!(p.stalkLengthMm >= 0.5) || p.stalkLengthMm + p.diameterMm > 2.0 * spec.lumenRadiusMm - 2.0) {
-                fail("a pedunculated polyp of " + std::to_string(p.diameterMm) + " mm on a " + std::to_string(p.stalkLengthMm) +
-                     " mm stalk does not fit a lumen " + std::to_string(2.0 * spec.lumenRadiusMm) + " mm across");
+                fail("a pedunculated polyp of " + std::to_string(p.diameterMm) + " mm on a " +
+                     std::to_string(p.stalkLengthMm) + " mm stalk does not fit a lumen " +
+                     std::to_string(2.0 * spec.lumenRadiusMm) + " mm across");
             }
             truth.stalkLengthMm = p.stalkLengthMm;
             truth.centreMm = truth.baseMm + (p.stalkLengthMm + truth.radiusMm) * truth.baseNormal;
@@ -263,7 +247,8 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
     // Folds: evenly spaced, turning by a third of a turn each, kept clear of the polyps.
     std::vector<Fold> folds;
     int foldIndex = 0;
-    for (double s = 0.5 * spec.foldSpacingMm; s < line.length() - 0.5 * spec.foldSpacingMm; s += spec.foldSpacingMm, ++foldIndex) {
+    for (double s = 0.5 * spec.foldSpacingMm; s < line.length() - 0.5 * spec.foldSpacingMm;
+         s += spec.foldSpacingMm, ++foldIndex) {
         const bool isClear = std::none_of(polyps.begin(), polyps.end(), [&](const PolypSolid& p) {
             return std::abs(p.truth.arcLengthMm - s) < p.truth.radiusMm + spec.foldHalfWidthMm + 3.0;
         });
@@ -281,9 +266,10 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
     const int slabs = (volume.dims[2] + kSlabLayers - 1) / kSlabLayers;
     const std::size_t layerVoxels = static_cast<std::size_t>(volume.dims[0]) * volume.dims[1];
     const glm::dvec3 spacing = volume.spacingMm;
-    runInParallel(slabs, [&](int slab) {
+    parallelFor(slabs, [&](int slab) {
         const int k0 = slab * kSlabLayers, k1 = std::min(k0 + kSlabLayers, volume.dims[2]);
-        std::vector<float> bestDistance(layerVoxels * static_cast<std::size_t>(k1 - k0), std::numeric_limits<float>::max());
+        std::vector<float> bestDistance(layerVoxels * static_cast<std::size_t>(k1 - k0),
+                                        std::numeric_limits<float>::max());
         std::vector<float> bestArc(bestDistance.size(), 0.0f);
         for (std::size_t i = 0; i + 1 < line.points.size(); ++i) {
             const glm::dvec3 a = line.points[i], b = line.points[i + 1];
@@ -302,7 +288,8 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
                         double t = 0.0;
                         const double d = segmentDistance(glm::dvec3(iv, j, k) * spacing, a, b, t);
                         const std::size_t at = static_cast<std::size_t>(iv) +
-                                               static_cast<std::size_t>(volume.dims[0]) * (j + static_cast<std::size_t>(volume.dims[1]) * (k - k0));
+                                               static_cast<std::size_t>(volume.dims[0]) *
+                                                   (j + static_cast<std::size_t>(volume.dims[1]) * (k - k0));
                         if (d < bestDistance[at]) {
                             bestDistance[at] = static_cast<float>(d);
                             bestArc[at] = static_cast<float>(line.arcMm[i] + t * segmentLength);
@@ -312,8 +299,9 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
         for (int k = k0; k < k1; ++k)
             for (int j = 0; j < volume.dims[1]; ++j)
                 for (int iv = 0; iv < volume.dims[0]; ++iv) {
-                    const std::size_t local = static_cast<std::size_t>(iv) +
-                                              static_cast<std::size_t>(volume.dims[0]) * (j + static_cast<std::size_t>(volume.dims[1]) * (k - k0));
+                    const std::size_t local =
+                        static_cast<std::size_t>(iv) + static_cast<std::size_t>(volume.dims[0]) *
+                                                           (j + static_cast<std::size_t>(volume.dims[1]) * (k - k0));
                     const std::size_t n = volume.linearIndex(iv, j, k);
                     if (!noise.empty()) noise[n] = static_cast<float>(gaussianAt(spec.seed, n));
                     if (bestDistance[local] > bandMm) continue;  // plain soft tissue
@@ -321,14 +309,17 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
                     glm::dvec3 point, tangent, normal;
                     line.frameAt(bestArc[local], point, tangent, normal);
                     const glm::dvec3 radial = p - point;
-                    const double theta = std::atan2(glm::dot(radial, glm::cross(tangent, normal)), glm::dot(radial, normal));
-                    const double lumenDistance = bestDistance[local] - (spec.lumenRadiusMm - foldIntrusion(spec, folds, bestArc[local], theta));
+                    const double theta =
+                        std::atan2(glm::dot(radial, glm::cross(tangent, normal)), glm::dot(radial, normal));
+                    const double lumenDistance =
+                        bestDistance[local] - (spec.lumenRadiusMm - foldIntrusion(spec, folds, bestArc[local], theta));
                     const double polyp = polypDistance(polyps, p);
                     const double airDistance = std::max(lumenDistance, -polyp);
                     // Tissue value: wall, then the fat band, then soft tissue; polyps are tissue.
                     const double e = spec.edgeWidthMm;
-                    const double fatWeight = std::clamp((lumenDistance - spec.wallThicknessMm) / e + 0.5, 0.0, 1.0) *
-                                             std::clamp((spec.wallThicknessMm + spec.fatThicknessMm - lumenDistance) / e + 0.5, 0.0, 1.0);
+                    const double fatWeight =
+                        std::clamp((lumenDistance - spec.wallThicknessMm) / e + 0.5, 0.0, 1.0) *
+                        std::clamp((spec.wallThicknessMm + spec.fatThicknessMm - lumenDistance) / e + 0.5, 0.0, 1.0);
                     double tissue = spec.tissueHu + fatWeight * (spec.fatHu - spec.tissueHu);
                     tissue += std::clamp(0.5 - polyp / e, 0.0, 1.0) * (spec.tissueHu - tissue);
                     const double airWeight = std::clamp(0.5 - airDistance / e, 0.0, 1.0);
@@ -352,7 +343,8 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
                 for (int v = 0; v < n; ++v) {
                     const float left = line1[static_cast<std::size_t>(std::max(v - 1, 0))];
                     const float right = line1[static_cast<std::size_t>(std::min(v + 1, n - 1))];
-                    noise[start + v * stride] = 0.25f * left + 0.5f * line1[static_cast<std::size_t>(v)] + 0.25f * right;
+                    noise[start + v * stride] =
+                        0.25f * left + 0.5f * line1[static_cast<std::size_t>(v)] + 0.25f * right;
                 }
             }
         }
@@ -425,7 +417,8 @@ PolypSpec parsePolypSpec(const std::string& text) {
     auto number = [&](const std::string& field, const char* what) {
         double value = 0.0;
         const auto result = std::from_chars(field.data(), field.data() + field.size(), value);
-        if (field.empty() || result.ec != std::errc{} || result.ptr != field.data() + field.size() || !std::isfinite(value)) {
+        if (field.empty() || result.ec != std::errc{} || result.ptr != field.data() + field.size() ||
+            !std::isfinite(value)) {
             failSpec(std::string(what) + " '" + field + "' is not a number");
         }
         return value;

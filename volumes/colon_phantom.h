@@ -23,25 +23,25 @@ enum class PolypKind { Sessile, Pedunculated };
 /// Where a polyp goes and how big it is.
 struct PolypSpec {
     PolypKind kind = PolypKind::Sessile;
-    double diameterMm = 6.0;      ///< 3..15 mm (the head's diameter for a pedunculated polyp)
-    double arcFraction = 0.5;     ///< position along the centreline, 0 (start) .. 1 (end)
-    double angleDeg = 0.0;        ///< around the centreline, from the curve's reference normal
-    double stalkLengthMm = 4.0;   ///< pedunculated only: wall to the head's surface
+    double diameterMm = 6.0;     ///< 3..15 mm (the head's diameter for a pedunculated polyp)
+    double arcFraction = 0.5;    ///< position along the centreline, 0 (start) .. 1 (end)
+    double angleDeg = 0.0;       ///< around the centreline, from the curve's reference normal
+    double stalkLengthMm = 4.0;  ///< pedunculated only: wall to the head's surface
 };
 
 struct ColonPhantomSpec {
     GridSpec grid{{256, 256, 256}, glm::dvec3(0.6)};
-    double lumenRadiusMm = 11.0;        ///< distended colon, ~22 mm across
+    double lumenRadiusMm = 11.0;  ///< distended colon, ~22 mm across
     double wallThicknessMm = 2.5;
-    double fatThicknessMm = 6.0;        ///< pericolic fat band outside the wall
-    double foldSpacingMm = 22.0;        ///< haustral folds along the centreline
-    double foldDepthMm = 4.0;           ///< how far a fold reaches into the lumen
-    double foldHalfWidthMm = 1.6;       ///< half the thickness of a fold ridge
+    double fatThicknessMm = 6.0;   ///< pericolic fat band outside the wall
+    double foldSpacingMm = 22.0;   ///< haustral folds along the centreline
+    double foldDepthMm = 4.0;      ///< how far a fold reaches into the lumen
+    double foldHalfWidthMm = 1.6;  ///< half the thickness of a fold ridge
     int16_t lumenHu = -1000;
-    int16_t tissueHu = 40;              ///< wall, polyps, and the soft tissue around
+    int16_t tissueHu = 40;  ///< wall, polyps, and the soft tissue around
     int16_t fatHu = -100;
-    double edgeWidthMm = 1.0;           ///< partial-volume ramp across air/tissue surfaces
-    double noiseSigmaHu = 15.0;         ///< Gaussian noise, smoothed over neighbours like CT noise
+    double edgeWidthMm = 1.0;    ///< partial-volume ramp across air/tissue surfaces
+    double noiseSigmaHu = 15.0;  ///< Gaussian noise, smoothed over neighbours like CT noise
     std::uint64_t seed = 1;
     std::vector<PolypSpec> polyps = defaultPolyps();
 
@@ -52,19 +52,19 @@ struct ColonPhantomSpec {
 /// Ground truth of one polyp, in volume millimetres.
 struct PolypTruth {
     PolypKind kind = PolypKind::Sessile;
-    glm::dvec3 centreMm{0.0};       ///< sphere centre (sessile: on the wall surface; the head's centre otherwise)
+    glm::dvec3 centreMm{0.0};  ///< sphere centre (sessile: on the wall surface; the head's centre otherwise)
     double radiusMm = 0.0;
-    glm::dvec3 baseMm{0.0};         ///< where the polyp meets the wall
-    glm::dvec3 baseNormal{0.0};     ///< unit wall normal at the base, pointing into the lumen
-    double arcLengthMm = 0.0;       ///< along the centreline from its start
+    glm::dvec3 baseMm{0.0};      ///< where the polyp meets the wall
+    glm::dvec3 baseNormal{0.0};  ///< unit wall normal at the base, pointing into the lumen
+    double arcLengthMm = 0.0;    ///< along the centreline from its start
     double stalkLengthMm = 0.0;
 };
 
 struct ColonPhantom {
     Volume volume;
-    std::vector<glm::dvec3> centrelineMm;   ///< polyline through the lumen centre, ~1 mm steps
+    std::vector<glm::dvec3> centrelineMm;  ///< polyline through the lumen centre, ~1 mm steps
     std::vector<PolypTruth> polyps;
-    std::vector<double> foldArcLengthsMm;   ///< where the haustral folds are along the centreline
+    std::vector<double> foldArcLengthsMm;  ///< where the haustral folds are along the centreline
 };
 
 /// Builds the phantom. Throws VolumeError for a spec that cannot make sense (polyp sizes outside

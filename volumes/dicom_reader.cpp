@@ -74,7 +74,8 @@ struct SliceFile {
 /// All readable image files in `folder`, grouped by series UID.
 std::map<std::string, std::vector<SliceFile>> scanFolder(const std::string& folder) {
     std::error_code error;
-    if (!std::filesystem::is_directory(folder, error)) fail(folder, "is not a folder (a DICOM series is read from a folder)");
+    if (!std::filesystem::is_directory(folder, error))
+        fail(folder, "is not a folder (a DICOM series is read from a folder)");
     gdcm::Trace::SetWarning(false);
     gdcm::Directory directory;
     directory.Load(folder, true);
@@ -149,8 +150,8 @@ double sortAndCheckSlices(const std::string& folder, std::vector<SliceFile>& sli
         const double gap = slices[k].distanceMm - slices[k - 1].distanceMm;
         if (std::abs(gap - spacingMm) > kGapTolerance * spacingMm) {
             std::ostringstream msg;
-            msg << "uneven slice spacing: " << gap << " mm between " << slices[k - 1].path << " and "
-                << slices[k].path << ", mean " << spacingMm << " mm (missing slice or variable-thickness "
+            msg << "uneven slice spacing: " << gap << " mm between " << slices[k - 1].path << " and " << slices[k].path
+                << ", mean " << spacingMm << " mm (missing slice or variable-thickness "
                 << "scan; resample it to a regular grid first)";
             fail(folder, msg.str());
         }
@@ -163,8 +164,8 @@ double sortAndCheckSlices(const std::string& folder, std::vector<SliceFile>& sli
             const double degrees =
                 std::atan2(glm::length(lateral), std::abs(glm::dot(offset, normal))) * 180.0 / 3.14159265358979;
             std::ostringstream msg;
-            msg << "slices are sheared (gantry tilt of about " << degrees << " degrees: " << slice.path
-                << " sits " << glm::length(lateral) << " mm off the slice normal); resample the series "
+            msg << "slices are sheared (gantry tilt of about " << degrees << " degrees: " << slice.path << " sits "
+                << glm::length(lateral) << " mm off the slice normal); resample the series "
                 << "to an orthogonal grid first";
             fail(folder, msg.str());
         }
@@ -265,44 +266,35 @@ Volume readDicomSeries(const std::string& folder, const std::string& seriesUid) 
         }
         if (ties > 1) {
             std::string names;
-            for (const auto& [uid, files] : series) names += " " + uid + " (" + std::to_string(files.size()) + " files)";
+            for (const auto& [uid, files] : series)
+                names += " " + uid + " (" + std::to_string(files.size()) + " files)";
             fail(folder, "holds several series of equal size, name one:" + names);
         }
     }
 
-    // Geometry of one slice fixes the grid every other slice must share.
+    // One slice fixes the in-plane grid every other slice must share.
     gdcm::ImageReader firstReader;
     readImage(slices->front().path, firstReader);
     const gdcm::Image& firstImage = firstReader.GetImage();
     const unsigned int* firstDims = firstImage.GetDimensions();
-    const bool isMultiFrame = firstImage.GetNumberOfDimensions() == 3 && firstDims[2] > 1;
-    if (isMultiFrame && slices->size() > 1) {
-        fail(folder, "mixes a multi-frame file (" + slices->front().path + ") with other files of its series");
+    if (firstImage.GetNumberOfDimensions() == 3 && firstDims[2] > 1) {
+        fail(slices->front().path, "is a multi-frame image (" + std::to_string(firstDims[2]) +
+                                       " frames); only series stored one slice per file are supported");
     }
 
     Volume volume;
-    volume.dims = {static_cast<int>(firstDims[0]), static_cast<int>(firstDims[1]),
-                   isMultiFrame ? static_cast<int>(firstDims[2]) : static_cast<int>(slices->size())};
+    volume.dims = {static_cast<int>(firstDims[0]), static_cast<int>(firstDims[1]), static_cast<int>(slices->size())};
     volume.spacingMm = {firstImage.GetSpacing(0), firstImage.GetSpacing(1), firstImage.GetSpacing(2)};
     glm::dvec3 normal{0, 0, 1};
-    if (!isMultiFrame) {
-        const double sliceSpacing =
-            sortAndCheckSlices(folder, *slices, normal, std::min(volume.spacingMm.x, volume.spacingMm.y));
-        if (slices->size() > 1) volume.spacingMm.z = sliceSpacing;
-        const SliceFile& first = slices->front();
-        volume.originLps = first.positionLps;
-        volume.directionLps = glm::dmat3(glm::normalize(first.rowLps), glm::normalize(first.columnLps), normal);
-    } else {
-        // GDCM derives the frames' grid from the functional groups of enhanced CT.
-        const double* origin = firstImage.GetOrigin();
-        const double* cosines = firstImage.GetDirectionCosines();
-        volume.originLps = {origin[0], origin[1], origin[2]};
-        const glm::dvec3 row(cosines[0], cosines[1], cosines[2]), column(cosines[3], cosines[4], cosines[5]);
-        volume.directionLps = glm::dmat3(row, column, glm::normalize(glm::cross(row, column)));
-    }
+    const double sliceSpacing =
+        sortAndCheckSlices(folder, *slices, normal, std::min(volume.spacingMm.x, volume.spacingMm.y));
+    if (slices->size() > 1) volume.spacingMm.z = sliceSpacing;
+    const SliceFile& first = slices->front();
+    volume.originLps = first.positionLps;
+    volume.directionLps = glm::dmat3(glm::normalize(first.rowLps), glm::normalize(first.columnLps), normal);
     validateGeometry(volume, folder);
 
-    // Voxels: one slice (or the one multi-frame image) at a time into the volume.
+    // Voxels: one slice at a time into the volume.
     volume.hu.resize(volume.voxelCount());
     const std::size_t sliceVoxels = static_cast<std::size_t>(volume.dims[0]) * static_cast<std::size_t>(volume.dims[1]);
     std::vector<char> buffer;
@@ -314,16 +306,16 @@ Volume readDicomSeries(const std::string& folder, const std::string& seriesUid) 
         const gdcm::Image& image = reader.GetImage();
         const unsigned int* dims = image.GetDimensions();
         if (dims[0] != firstDims[0] || dims[1] != firstDims[1]) {
-            fail(slice.path, "is " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + " pixels, the series' first slice " +
-                                 std::to_string(firstDims[0]) + "x" + std::to_string(firstDims[1]));
+            fail(slice.path, "is " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) +
+                                 " pixels, the series' first slice " + std::to_string(firstDims[0]) + "x" +
+                                 std::to_string(firstDims[1]));
         }
         if (std::abs(image.GetSpacing(0) - volume.spacingMm.x) > 1e-4 ||
             std::abs(image.GetSpacing(1) - volume.spacingMm.y) > 1e-4) {
             fail(slice.path, "PixelSpacing differs from the series' first slice");
         }
         const StoredFormat format = formatOf(slice.path, image);
-        const std::size_t voxels = isMultiFrame ? volume.voxelCount() : sliceVoxels;
-        const std::size_t expectedBytes = voxels * bytesPerValue(format.type);
+        const std::size_t expectedBytes = sliceVoxels * bytesPerValue(format.type);
         if (image.GetBufferLength() != expectedBytes) {
             fail(slice.path, "pixel data decodes to " + std::to_string(image.GetBufferLength()) + " bytes, expected " +
                                  std::to_string(expectedBytes));
@@ -334,7 +326,7 @@ Volume readDicomSeries(const std::string& folder, const std::string& seriesUid) 
         }
         maskStoredBits(image.GetPixelFormat(), format.type, buffer);
         huFromStored(slice.path, format, reinterpret_cast<const unsigned char*>(buffer.data()),
-                     std::span<int16_t>(volume.hu).subspan(k * sliceVoxels, voxels));
+                     std::span<int16_t>(volume.hu).subspan(k * sliceVoxels, sliceVoxels));
     }
     validateVolume(volume, folder);
     return volume;

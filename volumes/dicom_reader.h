@@ -12,7 +12,7 @@ namespace volumes {
 
 /// One series found in a folder.
 struct DicomSeriesInfo {
-    std::string seriesUid;   ///< SeriesInstanceUID (0020,000E)
+    std::string seriesUid;  ///< SeriesInstanceUID (0020,000E)
     std::size_t fileCount = 0;
 };
 
@@ -29,7 +29,8 @@ std::vector<DicomSeriesInfo> listDicomSeries(const std::string& folder);
 /// (raw, JPEG lossless, JPEG 2000, JPEG-LS, RLE, deflate). HU = stored * RescaleSlope +
 /// RescaleIntercept per slice. Gantry tilt, uneven or duplicate slice positions, differing
 /// orientation, sizes or pixel spacing across slices are refused with a VolumeError saying
-/// which files and values disagree (resample such series with a dedicated tool first).
+/// which files and values disagree (resample such series with a dedicated tool first), and so
+/// are multi-frame (enhanced) files.
 Volume readDicomSeries(const std::string& folder, const std::string& seriesUid = {});
 
 }  // namespace volumes

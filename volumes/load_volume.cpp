@@ -43,11 +43,13 @@ VolumeFormat volumeFormatOf(const std::string& path, const LoadOptions& options)
     if (endsWith(name, ".mha") || endsWith(name, ".mhd")) return VolumeFormat::MetaImage;
     if (endsWith(name, ".vdb")) return VolumeFormat::Vdb;
     if (endsWith(name, ".raw") || endsWith(name, ".bin")) {
-        throw VolumeError(path + ": a raw file needs its description (dims, type, spacing), e.g. "
-                                 "--raw 512x512x451:int16:0.7x0.7x1.25");
+        throw VolumeError(path +
+                          ": a raw file needs its description (dims, type, spacing), e.g. "
+                          "--raw 512x512x451:int16:0.7x0.7x1.25");
     }
-    throw VolumeError(path + ": unknown volume format (expected a DICOM folder, .nrrd, .nhdr, .nii, .nii.gz, "
-                             ".mha, .mhd, .vdb, or a raw file with its description)");
+    throw VolumeError(path +
+                      ": unknown volume format (expected a DICOM folder, .nrrd, .nhdr, .nii, .nii.gz, "
+                      ".mha, .mhd, .vdb, or a raw file with its description)");
 }
 
 Volume loadVolume(const std::string& path, const LoadOptions& options) {

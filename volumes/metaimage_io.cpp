@@ -35,16 +35,19 @@ bool isTrue(const std::string& value) {
 }
 
 /// Parses exactly `count` finite numbers from `value`, or fails naming `key`.
-std::vector<double> parseNumbers(const std::string& source, const std::string& key,
-                                 const std::string& value, std::size_t count) {
+std::vector<double> parseNumbers(const std::string& source, const std::string& key, const std::string& value,
+                                 std::size_t count) {
     std::istringstream in(value);
     std::vector<double> numbers;
-    double x = 0.0;
-    while (numbers.size() <= count && in >> x) numbers.push_back(x);
-    std::string rest;
-    const bool hasRest = static_cast<bool>(in.clear(), in >> rest);
-    if (numbers.size() != count || hasRest ||
-        !std::all_of(numbers.begin(), numbers.end(), [](double v) { return std::isfinite(v); })) {
+    std::string token;
+    while (numbers.size() <= count && in >> token) {
+        std::istringstream number(token);
+        double x = 0.0;
+        std::string trailing;
+        if (!(number >> x) || (number >> trailing) || !std::isfinite(x)) break;
+        numbers.push_back(x);
+    }
+    if (numbers.size() != count || (in >> token)) {
         fail(source, key + " = '" + value + "', expected " + std::to_string(count) + " finite numbers");
     }
     return numbers;
@@ -52,9 +55,8 @@ std::vector<double> parseNumbers(const std::string& source, const std::string& k
 
 ScalarType parseElementType(const std::string& source, const std::string& value) {
     static const std::map<std::string, ScalarType> kTypes = {
-        {"MET_CHAR", ScalarType::Int8},     {"MET_UCHAR", ScalarType::UInt8},
-        {"MET_SHORT", ScalarType::Int16},   {"MET_USHORT", ScalarType::UInt16},
-        {"MET_INT", ScalarType::Int32},     {"MET_UINT", ScalarType::UInt32},
+        {"MET_CHAR", ScalarType::Int8},     {"MET_UCHAR", ScalarType::UInt8},   {"MET_SHORT", ScalarType::Int16},
+        {"MET_USHORT", ScalarType::UInt16}, {"MET_INT", ScalarType::Int32},     {"MET_UINT", ScalarType::UInt32},
         {"MET_FLOAT", ScalarType::Float32}, {"MET_DOUBLE", ScalarType::Float64}};
     const auto it = kTypes.find(value);
     if (it == kTypes.end()) {
@@ -69,7 +71,7 @@ ScalarType parseElementType(const std::string& source, const std::string& value)
 
 MetaImageHeader parseMetaImageHeader(const std::string& source, std::istream& in) {
     MetaImageHeader header;
-    bool hasDims = false, hasType = false;
+    bool hasDims = false, hasType = false, hasSpacing = false;
     std::uint64_t consumed = 0;
     std::string line;
     for (int lineCount = 0;; ++lineCount) {
@@ -94,15 +96,17 @@ MetaImageHeader parseMetaImageHeader(const std::string& source, std::istream& in
             for (int axis = 0; axis < 3; ++axis) {
                 const double v = n[static_cast<std::size_t>(axis)];
                 if (v != std::floor(v) || v < 1 || v > kMaxDimension) {
-                    fail(source, "DimSize = '" + value + "', expected integers in 1.." +
-                                     std::to_string(kMaxDimension));
+                    fail(source, "DimSize = '" + value + "', expected integers in 1.." + std::to_string(kMaxDimension));
                 }
                 header.dims[static_cast<std::size_t>(axis)] = static_cast<int>(v);
             }
             hasDims = true;
-        } else if (key == "ElementSpacing" || (key == "ElementSize" && !hasDims)) {
+        } else if (key == "ElementSpacing" || (key == "ElementSize" && !hasSpacing)) {
+            // ElementSize is the voxel's extent; it stands in for the spacing only when no
+            // ElementSpacing is given.
             const auto s = parseNumbers(source, key, value, 3);
             header.spacingMm = {s[0], s[1], s[2]};
+            hasSpacing = key == "ElementSpacing";
         } else if (key == "Offset" || key == "Position" || key == "Origin") {
             const auto o = parseNumbers(source, key, value, 3);
             header.originLps = {o[0], o[1], o[2]};
@@ -201,8 +205,7 @@ Volume readMetaImage(const std::string& path) {
         if (dataBytesAvailable != rawBytes) {
             fail(dataPath, "holds " + std::to_string(dataBytesAvailable) +
                                " bytes of voxel data, the header's DimSize and ElementType call for " +
-                               std::to_string(rawBytes) +
-                               (dataBytesAvailable < rawBytes ? " (truncated file?)" : ""));
+                               std::to_string(rawBytes) + (dataBytesAvailable < rawBytes ? " (truncated file?)" : ""));
         }
         readRawHu(dataPath, *data, header.format, volume.hu);
     }

@@ -19,9 +19,9 @@ struct MetaImageHeader {
     glm::dmat3 directionLps{1.0};
     StoredFormat format;
     bool isCompressed = false;
-    std::string dataFile;           ///< "LOCAL" or a path relative to the header's folder
-    std::int64_t headerBytes = 0;   ///< HeaderSize: bytes to skip in a separate data file (-1: to fit)
-    std::uint64_t dataOffset = 0;   ///< for LOCAL: offset of the first data byte in the file
+    std::string dataFile;          ///< "LOCAL" or a path relative to the header's folder
+    std::int64_t headerBytes = 0;  ///< HeaderSize: bytes to skip in a separate data file (-1: to fit)
+    std::uint64_t dataOffset = 0;  ///< for LOCAL: offset of the first data byte in the file
 };
 
 /// Parses the text header from `in` (positioned at the start of the file) up to and including

@@ -51,8 +51,7 @@ ScalarType scalarTypeFromNifti(const std::string& path, int datatype) {
         case DT_FLOAT64: return ScalarType::Float64;
         default: break;
     }
-    fail(path, std::string("NIfTI datatype ") + nifti_datatype_string(datatype) + " (" +
-                   std::to_string(datatype) +
+    fail(path, std::string("NIfTI datatype ") + nifti_datatype_string(datatype) + " (" + std::to_string(datatype) +
                    ") is not supported (expected an 8, 16 or 32-bit integer, float32 or float64 scalar)");
 }
 
@@ -88,11 +87,12 @@ RasAffine affineOf(const nifti_image& image) {
 Volume readNifti(const std::string& path) {
     nifti_set_debug_level(0);
     NiftiImagePtr image(nifti_image_read(path.c_str(), 0));
-    if (!image) fail(path, "niftilib cannot read it as a NIfTI-1 or NIfTI-2 file (missing, not NIfTI, or corrupt header)");
+    if (!image)
+        fail(path, "niftilib cannot read it as a NIfTI-1 or NIfTI-2 file (missing, not NIfTI, or corrupt header)");
 
     // Shape: three spatial axes, no more than one volume.
-    if (image->nx < 1 || image->ny < 1 || image->nz < 1 || image->nx > kMaxDimension ||
-        image->ny > kMaxDimension || image->nz > kMaxDimension) {
+    if (image->nx < 1 || image->ny < 1 || image->nz < 1 || image->nx > kMaxDimension || image->ny > kMaxDimension ||
+        image->nz > kMaxDimension) {
         fail(path, "dim = " + std::to_string(image->nx) + " " + std::to_string(image->ny) + " " +
                        std::to_string(image->nz) + ", expected sizes in 1.." + std::to_string(kMaxDimension));
     }
@@ -152,8 +152,7 @@ Volume readNifti(const std::string& path) {
         const std::size_t got = znzread(chunk.data(), 1, count * valueBytes, file.get());
         if (got != count * valueBytes) {
             fail(dataPath, "image data is truncated: holds " + std::to_string(first * valueBytes + got) +
-                               " bytes, dim and datatype call for " +
-                               std::to_string(volume.hu.size() * valueBytes));
+                               " bytes, dim and datatype call for " + std::to_string(volume.hu.size() * valueBytes));
         }
         huFromStored(dataPath, format, chunk.data(), std::span<int16_t>(volume.hu).subspan(first, count), first);
     }

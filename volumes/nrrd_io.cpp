@@ -36,20 +36,34 @@ std::string lower(std::string s) {
 
 ScalarType parseType(const std::string& path, const std::string& value) {
     static const std::map<std::string, ScalarType> kTypes = {
-        {"signed char", ScalarType::Int8},      {"int8", ScalarType::Int8},
-        {"int8_t", ScalarType::Int8},           {"uchar", ScalarType::UInt8},
-        {"unsigned char", ScalarType::UInt8},   {"uint8", ScalarType::UInt8},
-        {"uint8_t", ScalarType::UInt8},         {"short", ScalarType::Int16},
-        {"short int", ScalarType::Int16},       {"signed short", ScalarType::Int16},
-        {"signed short int", ScalarType::Int16}, {"int16", ScalarType::Int16},
-        {"int16_t", ScalarType::Int16},         {"ushort", ScalarType::UInt16},
-        {"unsigned short", ScalarType::UInt16}, {"unsigned short int", ScalarType::UInt16},
-        {"uint16", ScalarType::UInt16},         {"uint16_t", ScalarType::UInt16},
-        {"int", ScalarType::Int32},             {"signed int", ScalarType::Int32},
-        {"int32", ScalarType::Int32},           {"int32_t", ScalarType::Int32},
-        {"uint", ScalarType::UInt32},           {"unsigned int", ScalarType::UInt32},
-        {"uint32", ScalarType::UInt32},         {"uint32_t", ScalarType::UInt32},
-        {"float", ScalarType::Float32},         {"double", ScalarType::Float64},
+        {"signed char", ScalarType::Int8},
+        {"int8", ScalarType::Int8},
+        {"int8_t", ScalarType::Int8},
+        {"uchar", ScalarType::UInt8},
+        {"unsigned char", ScalarType::UInt8},
+        {"uint8", ScalarType::UInt8},
+        {"uint8_t", ScalarType::UInt8},
+        {"short", ScalarType::Int16},
+        {"short int", ScalarType::Int16},
+        {"signed short", ScalarType::Int16},
+        {"signed short int", ScalarType::Int16},
+        {"int16", ScalarType::Int16},
+        {"int16_t", ScalarType::Int16},
+        {"ushort", ScalarType::UInt16},
+        {"unsigned short", ScalarType::UInt16},
+        {"unsigned short int", ScalarType::UInt16},
+        {"uint16", ScalarType::UInt16},
+        {"uint16_t", ScalarType::UInt16},
+        {"int", ScalarType::Int32},
+        {"signed int", ScalarType::Int32},
+        {"int32", ScalarType::Int32},
+        {"int32_t", ScalarType::Int32},
+        {"uint", ScalarType::UInt32},
+        {"unsigned int", ScalarType::UInt32},
+        {"uint32", ScalarType::UInt32},
+        {"uint32_t", ScalarType::UInt32},
+        {"float", ScalarType::Float32},
+        {"double", ScalarType::Float64},
     };
     const auto it = kTypes.find(lower(value));
     if (it == kTypes.end()) fail(path, "unsupported NRRD type '" + value + "'");
@@ -72,8 +86,8 @@ bool parseVector(const std::string& text, glm::dvec3& out) {
 }
 
 /// An integer field within [low, high], or fail naming it.
-std::int64_t parseInteger(const std::string& path, const std::string& key, const std::string& value,
-                          std::int64_t low, std::int64_t high) {
+std::int64_t parseInteger(const std::string& path, const std::string& key, const std::string& value, std::int64_t low,
+                          std::int64_t high) {
     std::istringstream in(value);
     long long n = 0;
     std::string rest;
@@ -167,7 +181,8 @@ NrrdHeader parseNrrdHeader(const std::string& path, std::istream& in) {
         } else if (key == "space origin") {
             if (!parseVector(value, header.origin)) fail(path, "space origin '" + value + "' is not a 3-vector");
         } else if (key == "data file" || key == "datafile") {
-            if (value.rfind("LIST", 0) == 0 || value.find('%') != std::string::npos || value.find(' ') != std::string::npos) {
+            if (value.rfind("LIST", 0) == 0 || value.find('%') != std::string::npos ||
+                value.find(' ') != std::string::npos) {
                 fail(path, "data file '" + value + "': data split over several files is not supported");
             }
             header.dataFile = value;
@@ -229,7 +244,8 @@ Volume readNrrd(const std::string& path) {
     data->seekg(static_cast<std::streamoff>(dataStart));
     std::string skipped;
     for (std::int64_t n = 0; n < header.lineSkip; ++n) {
-        if (!std::getline(*data, skipped)) fail(dataPath, "ends within the " + std::to_string(header.lineSkip) + " lines to skip");
+        if (!std::getline(*data, skipped))
+            fail(dataPath, "ends within the " + std::to_string(header.lineSkip) + " lines to skip");
     }
     std::error_code error;
     const std::uint64_t fileBytes = std::filesystem::file_size(dataPath, error);
@@ -257,7 +273,8 @@ Volume readNrrd(const std::string& path) {
         if (availableBytes != expectedBytes) {
             fail(dataPath, "holds " + std::to_string(availableBytes) +
                                " bytes of voxel data, the header's sizes and type call for " +
-                               std::to_string(expectedBytes) + (availableBytes < expectedBytes ? " (truncated file?)" : ""));
+                               std::to_string(expectedBytes) +
+                               (availableBytes < expectedBytes ? " (truncated file?)" : ""));
         }
         readRawHu(dataPath, *data, format, volume.hu);
     } else {
@@ -290,8 +307,7 @@ void writeNrrd(const Volume& volume, const std::string& path, bool overwrite) {
     out << "\nkinds: domain domain domain\n"
         << "endian: little\n"
         << "encoding: raw\n"
-        << "space origin: (" << volume.originLps.x << ',' << volume.originLps.y << ','
-        << volume.originLps.z << ")\n\n";
+        << "space origin: (" << volume.originLps.x << ',' << volume.originLps.y << ',' << volume.originLps.z << ")\n\n";
     static_assert(std::endian::native == std::endian::little, "writer assumes a little-endian host");
     out.write(reinterpret_cast<const char*>(volume.hu.data()),
               static_cast<std::streamsize>(volume.hu.size() * sizeof(int16_t)));

@@ -15,17 +15,17 @@ namespace volumes {
 struct NrrdHeader {
     ScalarType type = ScalarType::Int16;
     std::array<int, 3> sizes{0, 0, 0};
-    std::string encoding = "raw";   ///< "raw" or "gzip"
+    std::string encoding = "raw";  ///< "raw" or "gzip"
     bool isBigEndian = false;
-    bool isRas = false;             ///< `space` is right-anterior-superior
+    bool isRas = false;  ///< `space` is right-anterior-superior
     bool hasSpaceDirections = false;
     glm::dmat3 spaceDirections{1.0};  ///< columns: the grid axes in the header's space, mm
     glm::dvec3 spacings{1.0};         ///< `spacings`, used when there are no space directions
     glm::dvec3 origin{0.0};
-    std::string dataFile;            ///< detached data: path as written in the header; empty if attached
-    std::int64_t byteSkip = 0;       ///< `byte skip` (-1: the data are the file's last bytes)
-    std::int64_t lineSkip = 0;       ///< `line skip`: text lines before the data
-    std::uint64_t dataOffset = 0;    ///< attached data: offset of the first data byte
+    std::string dataFile;          ///< detached data: path as written in the header; empty if attached
+    std::int64_t byteSkip = 0;     ///< `byte skip` (-1: the data are the file's last bytes)
+    std::int64_t lineSkip = 0;     ///< `line skip`: text lines before the data
+    std::uint64_t dataOffset = 0;  ///< attached data: offset of the first data byte
 };
 
 /// Parses a NRRD header from `in` (at the start of the file) up to the blank line that ends

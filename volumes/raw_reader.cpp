@@ -14,6 +14,8 @@ namespace {
 
 /// A description longer than this is not a raw-volume description.
 constexpr std::size_t kMaxSpecBytes = 512;
+/// Header bytes to skip are bounded so that skip + data size cannot overflow.
+constexpr std::uint64_t kMaxSkipBytes = std::uint64_t{1} << 40;
 
 [[noreturn]] void failSpec(const std::string& spec, const std::string& problem) {
     throw VolumeError("raw volume description '" + spec + "': " + problem +
@@ -56,18 +58,18 @@ RawOptions parseRawSpec(const std::string& spec) {
         const std::string& text = dims[static_cast<std::size_t>(axis)];
         long long n = 0;
         const auto result = std::from_chars(text.data(), text.data() + text.size(), n);
-        if (text.empty() || result.ec != std::errc{} || result.ptr != text.data() + text.size() ||
-            n < 1 || n > kMaxDimension) {
-            failSpec(spec, "size '" + text + "' along axis " + std::to_string(axis) +
-                               " is not an integer in 1.." + std::to_string(kMaxDimension));
+        if (text.empty() || result.ec != std::errc{} || result.ptr != text.data() + text.size() || n < 1 ||
+            n > kMaxDimension) {
+            failSpec(spec, "size '" + text + "' along axis " + std::to_string(axis) + " is not an integer in 1.." +
+                               std::to_string(kMaxDimension));
         }
         options.dims[static_cast<std::size_t>(axis)] = static_cast<int>(n);
     }
 
     static const std::map<std::string, ScalarType> kTypes = {
-        {"int8", ScalarType::Int8},     {"uint8", ScalarType::UInt8},   {"int16", ScalarType::Int16},
-        {"uint16", ScalarType::UInt16}, {"int32", ScalarType::Int32},   {"uint32", ScalarType::UInt32},
-        {"float", ScalarType::Float32}, {"float32", ScalarType::Float32}, {"double", ScalarType::Float64},
+        {"int8", ScalarType::Int8},      {"uint8", ScalarType::UInt8},     {"int16", ScalarType::Int16},
+        {"uint16", ScalarType::UInt16},  {"int32", ScalarType::Int32},     {"uint32", ScalarType::UInt32},
+        {"float", ScalarType::Float32},  {"float32", ScalarType::Float32}, {"double", ScalarType::Float64},
         {"float64", ScalarType::Float64}};
     const auto type = kTypes.find(parts[1]);
     if (type == kTypes.end()) failSpec(spec, "unsupported type '" + parts[1] + "'");
@@ -94,8 +96,9 @@ RawOptions parseRawSpec(const std::string& spec) {
             const std::string text = part.substr(5);
             std::uint64_t n = 0;
             const auto result = std::from_chars(text.data(), text.data() + text.size(), n);
-            if (text.empty() || result.ec != std::errc{} || result.ptr != text.data() + text.size()) {
-                failSpec(spec, "skip '" + text + "' is not a byte count");
+            if (text.empty() || result.ec != std::errc{} || result.ptr != text.data() + text.size() ||
+                n > kMaxSkipBytes) {
+                failSpec(spec, "skip '" + text + "' is not a byte count up to 2^40");
             }
             options.headerBytes = n;
         } else if (part.rfind("slope=", 0) == 0) {
@@ -118,14 +121,12 @@ Volume readRaw(const std::string& path, const RawOptions& options) {
     std::error_code error;
     const std::uintmax_t fileBytes = std::filesystem::file_size(path, error);
     if (error) throw VolumeError(path + ": cannot read file size (" + error.message() + ")");
-    const std::uint64_t expected =
-        options.headerBytes + volume.voxelCount() * bytesPerValue(options.format.type);
+    const std::uint64_t expected = options.headerBytes + volume.voxelCount() * bytesPerValue(options.format.type);
     if (fileBytes != expected) {
         throw VolumeError(path + ": file holds " + std::to_string(fileBytes) + " bytes, the raw description (" +
                           std::to_string(options.dims[0]) + "x" + std::to_string(options.dims[1]) + "x" +
-                          std::to_string(options.dims[2]) + " " + scalarTypeName(options.format.type) +
-                          ", skip " + std::to_string(options.headerBytes) + ") calls for " +
-                          std::to_string(expected));
+                          std::to_string(options.dims[2]) + " " + scalarTypeName(options.format.type) + ", skip " +
+                          std::to_string(options.headerBytes) + ") calls for " + std::to_string(expected));
     }
     std::ifstream in(path, std::ios::binary);
     if (!in) throw VolumeError(path + ": cannot open file (" + std::strerror(errno) + ")");

@@ -14,8 +14,8 @@ namespace volumes {
 struct RawOptions {
     std::array<int, 3> dims{0, 0, 0};
     glm::dvec3 spacingMm{1.0, 1.0, 1.0};
-    StoredFormat format;                ///< type, byte order, HU = stored * slope + intercept
-    std::uint64_t headerBytes = 0;      ///< bytes to skip before the first voxel
+    StoredFormat format;            ///< type, byte order, HU = stored * slope + intercept
+    std::uint64_t headerBytes = 0;  ///< bytes to skip before the first voxel
 };
 
 /// Parses a compact description such as "512x512x451:int16:0.7x0.7x1.25", optionally followed

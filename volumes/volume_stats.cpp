@@ -22,8 +22,8 @@ std::string orientationCode(const Volume& volume) {
 
 VolumeStats volumeStatsOf(const Volume& volume) {
     VolumeStats stats;
-    stats.bins = {{"air", -32768, -900, 0},       {"lung", -900, -500, 0},          {"fat", -500, -30, 0},
-                  {"soft tissue", -30, 150, 0},   {"contrast/bone", 150, 1000, 0}, {"dense bone/metal", 1000, 32768, 0}};
+    stats.bins = {{"air", -32768, -900, 0},     {"lung", -900, -500, 0},         {"fat", -500, -30, 0},
+                  {"soft tissue", -30, 150, 0}, {"contrast/bone", 150, 1000, 0}, {"dense bone/metal", 1000, 32768, 0}};
     if (volume.hu.empty()) return stats;
     std::vector<std::size_t> counts(65536, 0);
     double sum = 0.0;

@@ -27,9 +27,9 @@ T loadValue(const unsigned char* bytes, bool isSwapped) {
 }
 
 [[noreturn]] void failValue(const std::string& source, std::size_t index, double value) {
-    const std::string what = std::isfinite(value) ? "has value " + std::to_string(value) +
-                                                        " HU, outside the int16 range"
-                                                  : "is not a finite number (NaN or Inf)";
+    const std::string what = std::isfinite(value)
+                                 ? "has value " + std::to_string(value) + " HU, outside the int16 range"
+                                 : "is not a finite number (NaN or Inf)";
     throw VolumeError(source + ": voxel " + std::to_string(index) + " " + what);
 }
 
@@ -89,8 +89,8 @@ std::string scalarTypeName(ScalarType type) {
 void huFromStored(const std::string& source, const StoredFormat& format, const unsigned char* bytes,
                   std::span<int16_t> hu, std::size_t firstIndex) {
     if (!std::isfinite(format.slope) || !std::isfinite(format.intercept) || format.slope == 0.0) {
-        throw VolumeError(source + ": rescale slope " + std::to_string(format.slope) +
-                          " / intercept " + std::to_string(format.intercept) +
+        throw VolumeError(source + ": rescale slope " + std::to_string(format.slope) + " / intercept " +
+                          std::to_string(format.intercept) +
                           " are not usable (expected finite numbers, slope non-zero)");
     }
     switch (format.type) {
@@ -105,8 +105,7 @@ void huFromStored(const std::string& source, const StoredFormat& format, const u
     }
 }
 
-void readRawHu(const std::string& source, std::istream& in, const StoredFormat& format,
-               std::span<int16_t> hu) {
+void readRawHu(const std::string& source, std::istream& in, const StoredFormat& format, std::span<int16_t> hu) {
     const std::size_t valueBytes = bytesPerValue(format.type);
     const std::size_t valuesPerChunk = kChunkBytes / valueBytes;
     std::vector<unsigned char> chunk(std::min(hu.size(), valuesPerChunk) * valueBytes);
@@ -115,16 +114,14 @@ void readRawHu(const std::string& source, std::istream& in, const StoredFormat& 
         in.read(reinterpret_cast<char*>(chunk.data()), static_cast<std::streamsize>(count * valueBytes));
         const auto got = static_cast<std::size_t>(in.gcount());
         if (got != count * valueBytes) {
-            throw VolumeError(source + ": voxel data is truncated: holds " +
-                              std::to_string(first * valueBytes + got) + " bytes, expected " +
-                              std::to_string(hu.size() * valueBytes));
+            throw VolumeError(source + ": voxel data is truncated: holds " + std::to_string(first * valueBytes + got) +
+                              " bytes, expected " + std::to_string(hu.size() * valueBytes));
         }
         huFromStored(source, format, chunk.data(), hu.subspan(first, count), first);
     }
 }
 
-void readCompressedHu(const std::string& source, std::istream& in, const StoredFormat& format,
-                      std::span<int16_t> hu) {
+void readCompressedHu(const std::string& source, std::istream& in, const StoredFormat& format, std::span<int16_t> hu) {
     const std::size_t valueBytes = bytesPerValue(format.type);
     const std::size_t valuesPerChunk = kChunkBytes / valueBytes;
     const std::size_t expectedBytes = hu.size() * valueBytes;
@@ -134,10 +131,10 @@ void readCompressedHu(const std::string& source, std::istream& in, const StoredF
     z_stream stream{};
     // 15 + 32: the largest window, and accept either a zlib or a gzip header.
     if (inflateInit2(&stream, 15 + 32) != Z_OK) throw VolumeError(source + ": cannot start zlib");
-    struct Ender {
+    struct InflateGuard {
         z_stream* s;
-        ~Ender() { inflateEnd(s); }
-    } ender{&stream};
+        ~InflateGuard() { inflateEnd(s); }
+    } guard{&stream};
 
     bool isStreamEnd = false;
     auto inflateInto = [&](unsigned char* out, std::size_t bytes) -> std::size_t {
@@ -155,8 +152,7 @@ void readCompressedHu(const std::string& source, std::istream& in, const StoredF
                 isStreamEnd = true;
             } else if (status != Z_OK && status != Z_BUF_ERROR) {
                 throw VolumeError(source + ": compressed voxel data is corrupt (zlib: " +
-                                  std::string(stream.msg ? stream.msg : "error " + std::to_string(status)) +
-                                  ")");
+                                  std::string(stream.msg ? stream.msg : "error " + std::to_string(status)) + ")");
             }
         }
         return bytes - stream.avail_out;
@@ -174,8 +170,8 @@ void readCompressedHu(const std::string& source, std::istream& in, const StoredF
     }
     unsigned char extra[16];
     if (inflateInto(extra, sizeof(extra)) > 0) {
-        throw VolumeError(source + ": compressed voxel data holds more than the " +
-                          std::to_string(expectedBytes) + " bytes the header calls for");
+        throw VolumeError(source + ": compressed voxel data holds more than the " + std::to_string(expectedBytes) +
+                          " bytes the header calls for");
     }
 }
 

@@ -38,13 +38,11 @@ void huFromStored(const std::string& source, const StoredFormat& format, const u
 
 /// Reads exactly hu.size() stored values from `in` (positioned at the first voxel) and
 /// converts them to HU. Throws VolumeError when the stream ends early ("truncated").
-void readRawHu(const std::string& source, std::istream& in, const StoredFormat& format,
-               std::span<int16_t> hu);
+void readRawHu(const std::string& source, std::istream& in, const StoredFormat& format, std::span<int16_t> hu);
 
 /// Inflates a zlib or gzip stream (detected from its first bytes) from `in` and converts the
 /// hu.size() values it must hold. Throws VolumeError when the stream is corrupt, ends early,
 /// or holds more data than the header calls for.
-void readCompressedHu(const std::string& source, std::istream& in, const StoredFormat& format,
-                      std::span<int16_t> hu);
+void readCompressedHu(const std::string& source, std::istream& in, const StoredFormat& format, std::span<int16_t> hu);
 
 }  // namespace volumes

@@ -121,7 +121,8 @@ TEST(RicciFlow, VerySmallHoleConverges) {
 }
 
 TEST(RicciFlow, MillionVertexMeshConverges) {
-    // About a minute on two cores; run with CVC_LONG_TESTS=1.
+    // Several minutes on two cores (the sparse Cholesky factorisations dominate); run with
+    // CVC_LONG_TESTS=1.
     if (std::getenv("CVC_LONG_TESTS") == nullptr) GTEST_SKIP() << "set CVC_LONG_TESTS=1 to run";
     const SphereMesh sphere = buildSphereMesh(CaveBox{}, SphereDomain::Display, {412, 1.0});
     ASSERT_GT(sphere.mesh.positions.size(), 1000000u);

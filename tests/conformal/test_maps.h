@@ -5,11 +5,11 @@
 
 namespace conformal::testing {
 
-/// The conformal map of the 2.4 m cube at a small mesh resolution (a fraction of a second).
+/// The conformal map of the 2.4 m cube at a small mesh resolution (about a second).
 inline const ConformalMap& cubeMap() {
     static const ConformalMap map([] {
         ConformalMapSettings settings;
-        settings.mesh.resolution = 48;
+        settings.mesh.resolution = 64;
         return settings;
     }());
     return map;
@@ -20,7 +20,7 @@ inline const ConformalMap& cabinMap() {
     static const ConformalMap map([] {
         ConformalMapSettings settings;
         settings.box = immersiveCabinBox();
-        settings.mesh.resolution = 48;
+        settings.mesh.resolution = 64;
         return settings;
     }());
     return map;

@@ -42,7 +42,8 @@ void expectLoadError(const std::string& path, const std::string& problem, const 
 std::string nrrdText(const std::string& type, const std::string& sizes, const std::string& extra = "") {
     return "NRRD0004\ntype: " + type + "\ndimension: 3\nsizes: " + sizes +
            "\nspace: left-posterior-superior\nspace directions: (1,0,0) (0,1,0) (0,0,2)\nendian: little\n"
-           "encoding: raw\n" + extra + "\n";
+           "encoding: raw\n" +
+           extra + "\n";
 }
 
 std::string floats(std::vector<float> values) {
@@ -113,8 +114,10 @@ TEST(BadInput, AbsurdSpacing) {
     huge.replace(huge.find("(1,0,0)"), 7, "(1e9,0,0)");
     writeBytes(folder + "/huge.nrrd", huge + std::string(16, '\0'));
     expectLoadError(folder + "/huge.nrrd", "voxel spacing along axis 0 is 1e+09 mm");
-    writeBytes(folder + "/nan.mha", "NDims = 3\nDimSize = 2 2 2\nElementSpacing = 1 nan 1\nElementType = MET_SHORT\n"
-                                    "ElementDataFile = LOCAL\n" + std::string(16, '\0'));
+    writeBytes(folder + "/nan.mha",
+               "NDims = 3\nDimSize = 2 2 2\nElementSpacing = 1 nan 1\nElementType = MET_SHORT\n"
+               "ElementDataFile = LOCAL\n" +
+                   std::string(16, '\0'));
     expectLoadError(folder + "/nan.mha", "ElementSpacing");
     EXPECT_THROW(parseRawSpec("2x2x2:int16:1x1x500"), VolumeError);
 }
@@ -124,10 +127,12 @@ TEST(BadInput, MetaImageHeaderDisagreesWithData) {
     const std::string header = "NDims = 3\nDimSize = 4 4 4\nElementType = MET_SHORT\nElementDataFile = LOCAL\n";
     writeBytes(folder + "/short.mha", header + std::string(100, '\0'));
     expectLoadError(folder + "/short.mha", "truncated");
-    writeBytes(folder + "/type.mha", "NDims = 3\nDimSize = 4 4 4\nElementType = MET_LONG_LONG\nElementDataFile = LOCAL\n");
+    writeBytes(folder + "/type.mha",
+               "NDims = 3\nDimSize = 4 4 4\nElementType = MET_LONG_LONG\nElementDataFile = LOCAL\n");
     expectLoadError(folder + "/type.mha", "ElementType = 'MET_LONG_LONG' is not supported");
-    writeBytes(folder + "/rgb.mha", "NDims = 3\nDimSize = 1 1 1\nElementNumberOfChannels = 3\nElementType = MET_UCHAR\n"
-                                    "ElementDataFile = LOCAL\nabc");
+    writeBytes(folder + "/rgb.mha",
+               "NDims = 3\nDimSize = 1 1 1\nElementNumberOfChannels = 3\nElementType = MET_UCHAR\n"
+               "ElementDataFile = LOCAL\nabc");
     expectLoadError(folder + "/rgb.mha", "ElementNumberOfChannels");
     writeBytes(folder + "/nodata.mha", "NDims = 3\nDimSize = 4 4 4\nElementType = MET_SHORT\n");
     expectLoadError(folder + "/nodata.mha", "ElementDataFile");
@@ -140,7 +145,8 @@ TEST(BadInput, RawSizeDisagreesWithDescription) {
     writeBytes(folder + "/v.raw", std::string(1000, '\0'));
     LoadOptions options;
     options.raw = parseRawSpec("10x10x10:int16:1x1x1");
-    expectLoadError(folder + "/v.raw", "file holds 1000 bytes, the raw description (10x10x10 int16, skip 0) calls for 2000", options);
+    expectLoadError(folder + "/v.raw",
+                    "file holds 1000 bytes, the raw description (10x10x10 int16, skip 0) calls for 2000", options);
 }
 
 /// A NIfTI-1 single file written field by field (offsets from nifti1.h), independent of niftilib.
@@ -181,6 +187,19 @@ TEST(NiftiReader, AppliesSformAndScaling) {
     EXPECT_NEAR(v.originLps.z, 30.0, 1e-6);
 }
 
+TEST(NiftiReader, ReadsHeaderAndImagePair) {
+    // NIfTI-1 as two files: magic "ni1", data from byte 0 of the .img.
+    const std::string folder = scratchFolder("nifti_pair");
+    const std::vector<int16_t> stored = {10, 20, 30, 40, 50, 60, 70, 80};
+    std::string header = niftiBytes({2, 2, 2}, 4, 16, 0.0f, 0.0f, "").substr(0, 348);
+    std::memcpy(header.data() + 344, "ni1\0", 4);
+    const float zero = 0.0f;
+    std::memcpy(header.data() + 108, &zero, 4);
+    writeBytes(folder + "/v.hdr", header);
+    writeBytes(folder + "/v.img", bytesOf(stored));
+    EXPECT_EQ(loadVolume(folder + "/v.hdr").hu, stored);
+}
+
 TEST(BadInput, NiftiProblems) {
     const std::string folder = scratchFolder("bad_nifti");
     writeBytes(folder + "/complex.nii", niftiBytes({2, 2, 2}, 32, 64, 0.0f, 0.0f, std::string(64, '\0')));
@@ -197,7 +216,8 @@ TEST(BadInput, NiftiProblems) {
 std::string editedSeries(const std::string& name, const std::function<bool(int index, gdcm::DataSet&)>& edit) {
     const std::string folder = scratchFolder(name);
     std::vector<std::filesystem::path> files;
-    for (const auto& e : std::filesystem::directory_iterator(testing::sharedData("dicom/ibsi_sts008_ct"))) files.push_back(e.path());
+    for (const auto& e : std::filesystem::directory_iterator(testing::sharedData("dicom/ibsi_sts008_ct")))
+        files.push_back(e.path());
     std::sort(files.begin(), files.end());
     for (std::size_t n = 0; n < files.size(); ++n) {
         gdcm::Reader reader;
@@ -241,7 +261,8 @@ TEST(BadInput, DicomGantryTiltIsRefused) {
 
 TEST(BadInput, DicomDuplicatePositions) {
     const std::string folder = editedSeries("dicom_duplicate", [](int, gdcm::DataSet&) { return true; });
-    std::filesystem::copy_file(std::filesystem::path(folder) / "000010.dcm", std::filesystem::path(folder) / "copy.dcm");
+    std::filesystem::copy_file(std::filesystem::path(folder) / "000010.dcm",
+                               std::filesystem::path(folder) / "copy.dcm");
     expectLoadError(folder, "same position");
 }
 
@@ -266,11 +287,30 @@ TEST(CvcInfo, PrintsTheSharedAbdomen) {
     }
 }
 
+TEST(CvcInfo, NamesTheSeriesItReadFromAFolderOfTwo) {
+    const std::string folder = scratchFolder("info_two_series");
+    for (const char* name : {"ibsi_ct_phantom_chest", "ibsi_sts008_ct"}) {
+        std::filesystem::copy(testing::sharedData(std::string("dicom/") + name), std::filesystem::path(folder) / name);
+    }
+    const auto largest = testing_support::runCvc("info '" + folder + "'");
+    ASSERT_EQ(largest.exitCode, 0) << largest.err;
+    EXPECT_NE(largest.out.find("2 series in the folder"), std::string::npos) << largest.out;
+    EXPECT_NE(largest.out.find("204 x 201 x 60"), std::string::npos) << largest.out;  // the chest: 60 files
+    const std::string sarcomaUid = listDicomSeries(testing::sharedData("dicom/ibsi_sts008_ct")).front().seriesUid;
+    const auto chosen = testing_support::runCvc("info '" + folder + "' --series " + sarcomaUid);
+    ASSERT_EQ(chosen.exitCode, 0) << chosen.err;
+    EXPECT_NE(chosen.out.find("141 x 137 x 51"), std::string::npos) << chosen.out;
+    const auto missing = testing_support::runCvc("info '" + folder + "' --series 1.2.3");
+    EXPECT_NE(missing.exitCode, 0);
+    EXPECT_NE(missing.err.find("no series with SeriesInstanceUID 1.2.3"), std::string::npos) << missing.err;
+}
+
 TEST(CvcInfo, FailsWithOneLineOnBadInput) {
     const std::string folder = scratchFolder("info_bad");
     writeBytes(folder + "/short.nrrd", nrrdText("short", "4 4 4") + std::string(10, '\0'));
-    for (const std::string& arguments : {"info '" + folder + "/short.nrrd'", "info '" + folder + "'",
-                                         "info '" + folder + "/missing.nii'", "info '" + folder + "/short.nrrd' --raw 1x1"}) {
+    for (const std::string& arguments :
+         {"info '" + folder + "/short.nrrd'", "info '" + folder + "'", "info '" + folder + "/missing.nii'",
+          "info '" + folder + "/short.nrrd' --raw 1x1"}) {
         const auto run = testing_support::runCvc(arguments);
         EXPECT_NE(run.exitCode, 0) << arguments;
         EXPECT_EQ(testing_support::lineCount(run.err), 1) << arguments << ":\n" << run.err;

@@ -44,21 +44,24 @@ std::pair<int16_t, int16_t> bruteForceRange(const Volume& v, int bx, int by, int
 
 /// Trilinear sample at continuous voxel coordinates p (voxel centres at integers), clamped.
 double trilinear(const Volume& v, glm::dvec3 p) {
-    for (int a = 0; a < 3; ++a) p[a] = std::clamp(p[a], 0.0, static_cast<double>(v.dims[static_cast<std::size_t>(a)] - 1));
-    const glm::ivec3 base(static_cast<int>(std::floor(p.x)), static_cast<int>(std::floor(p.y)), static_cast<int>(std::floor(p.z)));
+    for (int a = 0; a < 3; ++a)
+        p[a] = std::clamp(p[a], 0.0, static_cast<double>(v.dims[static_cast<std::size_t>(a)] - 1));
+    const glm::ivec3 base(static_cast<int>(std::floor(p.x)), static_cast<int>(std::floor(p.y)),
+                          static_cast<int>(std::floor(p.z)));
     const glm::dvec3 t = p - glm::dvec3(base);
     double sum = 0.0;
     for (int c = 0; c < 8; ++c) {
         const int i = std::min(base.x + (c & 1), v.dims[0] - 1);
         const int j = std::min(base.y + ((c >> 1) & 1), v.dims[1] - 1);
         const int k = std::min(base.z + ((c >> 2) & 1), v.dims[2] - 1);
-        const double w = ((c & 1) ? t.x : 1 - t.x) * (((c >> 1) & 1) ? t.y : 1 - t.y) * (((c >> 2) & 1) ? t.z : 1 - t.z);
+        const double w =
+            ((c & 1) ? t.x : 1 - t.x) * (((c >> 1) & 1) ? t.y : 1 - t.y) * (((c >> 2) & 1) ? t.z : 1 - t.z);
         sum += w * v.at(i, j, k);
     }
     return sum;
 }
 
-const std::array<int, 3> kShapes[] = {{8, 8, 8}, {1, 1, 1}, {17, 9, 30}, {64, 33, 7}, {5, 40, 16}};
+const std::array<int, 3> kShapes[] = {{8, 8, 8}, {1, 1, 1}, {17, 9, 30}, {64, 33, 7}, {5, 40, 16}, {9, 12, 150}};
 
 TEST(BrickMinMax, MatchesBruteForce) {
     unsigned seed = 1;
@@ -89,7 +92,8 @@ TEST(BrickMinMax, SkippedBricksHoldNoIsoCrossing) {
             for (int bx = 0; bx < bricks.brickDims[0]; ++bx) {
                 const std::size_t b = bricks.brickIndex(bx, by, bz);
                 for (int s = 0; s < 200; ++s) {
-                    const glm::dvec3 p = glm::dvec3(bx, by, bz) * 8.0 - 0.5 + 9.0 * glm::dvec3(unit(rng), unit(rng), unit(rng));
+                    const glm::dvec3 p =
+                        glm::dvec3(bx, by, bz) * 8.0 - 0.5 + 9.0 * glm::dvec3(unit(rng), unit(rng), unit(rng));
                     const double value = trilinear(v, p);
                     ASSERT_GE(value, bricks.minHu[b] - 1e-9);
                     ASSERT_LE(value, bricks.maxHu[b] + 1e-9);

@@ -51,8 +51,8 @@ TEST_F(ColonPhantomTest, PolypsAreTissueInsideTheirRadius) {
                 for (int i = lo.x; i <= hi.x; ++i) {
                     if (glm::length(glm::dvec3(i, j, k) * v.spacingMm - polyp.centreMm) > inner) continue;
                     ++checked;
-                    ASSERT_GT(v.at(i, j, k), -500) << "voxel " << i << ',' << j << ',' << k << " in polyp of radius "
-                                                    << polyp.radiusMm;
+                    ASSERT_GT(v.at(i, j, k), -500)
+                        << "voxel " << i << ',' << j << ',' << k << " in polyp of radius " << polyp.radiusMm;
                 }
         EXPECT_GT(checked, 0);
         // And the polyp stands in air: just beyond its top, along the base normal, is lumen.
@@ -137,8 +137,8 @@ TEST(ColonPhantom, RefusesImpossibleSpecs) {
     EXPECT_THROW(makeColonPhantom(spec), VolumeError);
     spec.polyps = {{PolypKind::Sessile, 20.0, 0.5, 0.0, 0.0}};
     EXPECT_THROW(makeColonPhantom(spec), VolumeError);
-    for (const char* bad : {"", "flat:6:0.5:0", "sessile:6:0.5", "sessile:2:0.5:0", "sessile:6:1.5:0", "sessile:x:0.5:0",
-                            "pedunculated:8:0.5:0:4:9"}) {
+    for (const char* bad : {"", "flat:6:0.5:0", "sessile:6:0.5", "sessile:2:0.5:0", "sessile:6:1.5:0",
+                            "sessile:x:0.5:0", "pedunculated:8:0.5:0:4:9"}) {
         EXPECT_THROW(parsePolypSpec(bad), VolumeError) << bad;
     }
     const PolypSpec p = parsePolypSpec("pedunculated:8:0.25:120:5");
@@ -151,8 +151,10 @@ TEST(ColonPhantom, RefusesImpossibleSpecs) {
 
 TEST(CvcPhantom, WritesColonVolumeAndGroundTruth) {
     const std::string folder = testing::scratchFolder("cvc_phantom");
-    const auto run = testing_support::runCvc("phantom --size 112 --spacing 1.4 --seed 3 --polyp sessile:7:0.3:0 "
-                                             "--polyp pedunculated:9:0.7:180:4 -o '" + folder + "/colon.vdb'");
+    const auto run = testing_support::runCvc(
+        "phantom --size 112 --spacing 1.4 --seed 3 --polyp sessile:7:0.3:0 "
+        "--polyp pedunculated:9:0.7:180:4 -o '" +
+        folder + "/colon.vdb'");
     ASSERT_EQ(run.exitCode, 0) << run.err;
     const LoadedVolume loaded = loadVolumeWithBricks(folder + "/colon.vdb");
     EXPECT_EQ(loaded.volume.dims, (std::array<int, 3>{112, 112, 112}));

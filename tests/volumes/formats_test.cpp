@@ -38,8 +38,8 @@ std::string nrrdHeader(const Volume& v, const std::string& type, const std::stri
                        const std::string& extra = "") {
     std::ostringstream h;
     h.precision(17);
-    h << "NRRD0004\ntype: " << type << "\ndimension: 3\nspace: left-posterior-superior\nsizes: " << v.dims[0]
-      << ' ' << v.dims[1] << ' ' << v.dims[2] << "\nspace directions:";
+    h << "NRRD0004\ntype: " << type << "\ndimension: 3\nspace: left-posterior-superior\nsizes: " << v.dims[0] << ' '
+      << v.dims[1] << ' ' << v.dims[2] << "\nspace directions:";
     for (int a = 0; a < 3; ++a) h << ' ' << vectorText(v.directionLps[a] * v.spacingMm[a]);
     h << "\nendian: little\nencoding: " << encoding << "\nspace origin: " << vectorText(v.originLps) << '\n'
       << extra << '\n';
@@ -102,7 +102,8 @@ TEST(NrrdIo, ConvertsRasSpaceToLps) {
     const std::string path = scratchFolder("nrrd_ras") + "/v.nrrd";
     // The same grid written in RAS: x and y of every vector negated.
     Volume ras = v;
-    for (int a = 0; a < 3; ++a) ras.directionLps[a] = glm::dvec3(-v.directionLps[a].x, -v.directionLps[a].y, v.directionLps[a].z);
+    for (int a = 0; a < 3; ++a)
+        ras.directionLps[a] = glm::dvec3(-v.directionLps[a].x, -v.directionLps[a].y, v.directionLps[a].z);
     ras.originLps = {-v.originLps.x, -v.originLps.y, v.originLps.z};
     std::string header = nrrdHeader(ras, "short", "raw");
     header.replace(header.find("left-posterior-superior"), 23, "right-anterior-superior");
@@ -228,10 +229,14 @@ TEST(VdbIo, RefusesToOverwrite) {
 TEST(LoadVolume, DispatchesByExtensionAndFolder) {
     const std::string folder = scratchFolder("dispatch");
     EXPECT_EQ(volumeFormatOf(testing::sharedData("dicom/ibsi_sts008_ct")), VolumeFormat::DicomSeries);
-    for (const auto& [name, format] : std::vector<std::pair<std::string, VolumeFormat>>{
-             {"a.nrrd", VolumeFormat::Nrrd}, {"a.NHDR", VolumeFormat::Nrrd}, {"a.nii", VolumeFormat::Nifti},
-             {"a.nii.gz", VolumeFormat::Nifti}, {"a.mha", VolumeFormat::MetaImage}, {"a.mhd", VolumeFormat::MetaImage},
-             {"a.vdb", VolumeFormat::Vdb}}) {
+    for (const auto& [name, format] :
+         std::vector<std::pair<std::string, VolumeFormat>>{{"a.nrrd", VolumeFormat::Nrrd},
+                                                           {"a.NHDR", VolumeFormat::Nrrd},
+                                                           {"a.nii", VolumeFormat::Nifti},
+                                                           {"a.nii.gz", VolumeFormat::Nifti},
+                                                           {"a.mha", VolumeFormat::MetaImage},
+                                                           {"a.mhd", VolumeFormat::MetaImage},
+                                                           {"a.vdb", VolumeFormat::Vdb}}) {
         writeBytes(folder + "/" + name, "x");
         EXPECT_EQ(volumeFormatOf(folder + "/" + name), format) << name;
     }

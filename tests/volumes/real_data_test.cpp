@@ -89,7 +89,8 @@ TEST(DicomReader, OrdersSlicesByPositionNotFileName) {
     // Copy the series under names that reverse and shuffle the order: the volume must not change.
     const std::string folder = testing::scratchFolder("dicom_renamed");
     std::vector<std::filesystem::path> files;
-    for (const auto& entry : std::filesystem::directory_iterator(sharedData("dicom/ibsi_sts008_ct"))) files.push_back(entry.path());
+    for (const auto& entry : std::filesystem::directory_iterator(sharedData("dicom/ibsi_sts008_ct")))
+        files.push_back(entry.path());
     std::sort(files.begin(), files.end());
     for (std::size_t n = 0; n < files.size(); ++n) {
         const std::size_t scrambled = (n * 7 + 5) % files.size();
@@ -125,9 +126,9 @@ TEST_P(CompressedDicom, DecodesToTheSameVoxels) {
 
 INSTANTIATE_TEST_SUITE_P(TransferSyntaxes, CompressedDicom,
                          ::testing::Values(std::make_pair("jpeg2000", "--j2k"),
-                                           std::make_pair("jpeg_lossless", "--jpeg"),
-                                           std::make_pair("rle", "--rle"),
-                                           std::make_pair("jpegls", "--jpegls")),
+                                           std::make_pair("jpeg_lossless", "--jpeg"), std::make_pair("rle", "--rle"),
+                                           std::make_pair("jpegls", "--jpegls"), std::make_pair("deflated", "--deflated"),
+                                           std::make_pair("explicit_little_endian", "--explicit")),
                          [](const auto& param) { return std::string(param.param.first); });
 
 }  // namespace
