@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 
@@ -174,10 +175,18 @@ CameraPose poseViewing(const std::vector<glm::dvec3>& polyline, const glm::dvec3
         const double length = glm::length(toPoint);
         return length > 0.0 ? std::acos(std::clamp(glm::dot(toPoint / length, pose.forward), -1.0, 1.0)) : 0.0;
     };
-    const auto best = std::min_element(poses.begin(), poses.end(), [&](const CameraPose& a, const CameraPose& b) {
-        return std::abs(angleTo(a) - wantedAngle) < std::abs(angleTo(b) - wantedAngle);
+    // Walk back along the path from the pose nearest to the point: the point's angle from the
+    // view direction falls from about 90 degrees; stop where it reaches the wanted one. Poses
+    // elsewhere on a winding path may see the point at that angle too, but through walls.
+    const auto nearest = std::min_element(poses.begin(), poses.end(), [&](const CameraPose& a, const CameraPose& b) {
+        return glm::length(a.positionMm - pointMm) < glm::length(b.positionMm - pointMm);
     });
-    CameraPose pose = *best;
+    auto chosen = nearest;
+    while (chosen != poses.begin() && angleTo(*chosen) > wantedAngle) --chosen;
+    if (chosen != nearest && std::abs(angleTo(*std::next(chosen)) - wantedAngle) < std::abs(angleTo(*chosen) - wantedAngle)) {
+        ++chosen;
+    }
+    CameraPose pose = *chosen;
     const glm::dvec3 toPoint = pointMm - pose.positionMm;
     const glm::dvec3 up = toPoint - glm::dot(toPoint, pose.forward) * pose.forward;
     if (glm::length(up) > 1e-9) pose.up = glm::normalize(up);

@@ -13,7 +13,7 @@ mkdir -p "$out"
 cvc=build/app/cvc
 
 "$cvc" phantom --force -o "$out/colon.nrrd"
-"$cvc" render "$out/colon.nrrd" --display ic5 --path "$out/colon.json" --polyp 4 --polyp-elevation 50 \
+"$cvc" render "$out/colon.nrrd" --display ic5 --path "$out/colon.json" --polyp 3 --polyp-elevation 50 \
   --scale 4 --before-after --force -o "$out/ic5_polyp"
 
 ct=../shared/data/ct/ts_example_abdomen_3mm.nrrd
