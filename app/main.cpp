@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "app/frame_sequence.h"
 
 int main(int argc, char** argv) {
     CLI::App program{"conformal-vc: virtual colonoscopy rendering for partially-immersive displays"};
@@ -21,6 +22,9 @@ int main(int argc, char** argv) {
         program.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return program.exit(e);
+    } catch (const app::Interrupted&) {
+        std::cerr << "cvc: interrupted; the finished frames are kept (continue with --resume)\n";
+        return 130;
     } catch (const std::exception& e) {
         std::cerr << "cvc: error: " << e.what() << '\n';
         return 1;

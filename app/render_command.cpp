@@ -1,5 +1,5 @@
-/// @brief `cvc render`: load a CT volume and render it from a pinhole camera to a PNG (and,
-/// on request, the first-hit positions as a float image).
+/// @brief `cvc render`: a CT volume from a pinhole camera to a PNG, or every wall of an
+/// immersive display for both eyes, at one pose or along a path, into a folder.
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -10,6 +10,7 @@
 
 #include "app/commands.h"
 #include "app/option_parsing.h"
+#include "app/render_options.h"
 #include "engine/gpu_context.h"
 #include "engine/hit_image_writer.h"
 #include "engine/pinhole_camera.h"
@@ -22,24 +23,6 @@
 
 namespace app {
 namespace {
-
-struct RenderOptions {
-    std::string volumePath;
-    std::string rawSpec;
-    std::string outPath = "render.png";
-    std::string hitsPath;
-    std::vector<double> positionMm;
-    std::vector<double> lookAtMm;
-    std::vector<double> up;
-    double fovDeg = 40.0;
-    std::string size = "1024x1024";
-    std::string mode = "iso";
-    std::string filter = "trilinear";
-    engine::RenderSettings settings;
-    bool isSkippingOff = false;
-    std::string device;
-    bool force = false;
-};
 
 /// With no position given, the camera looks at the volume's centre from the patient's front
 /// (anterior, −y in LPS) with the head up (+z), whatever order the file stores the axes in,
@@ -67,16 +50,11 @@ engine::PinholeCamera cameraFrom(const RenderOptions& options, const volumes::Vo
     return camera;
 }
 
-void runRender(RenderOptions options) {
+void runPinholeRender(const RenderOptions& options) {
     requireWritableOutput(options.outPath, options.force);
     if (!options.hitsPath.empty()) requireWritableOutput(options.hitsPath, options.force);
-    options.settings.mode = options.mode == "composite" ? engine::RenderMode::Composite : engine::RenderMode::IsoSurface;
-    options.settings.filter = options.filter == "tricubic" ? engine::VolumeFilter::Tricubic : engine::VolumeFilter::Trilinear;
-    options.settings.isSkipping = !options.isSkippingOff;
-    options.settings.isWritingHits = !options.hitsPath.empty();
-    if (options.settings.mode == engine::RenderMode::Composite) {
-        engine::transferFunctionPreset(options.settings.transferFunction);  // a typo fails before loading
-    }
+    engine::RenderSettings settings = renderSettingsFrom(options, false);
+    settings.isWritingHits = !options.hitsPath.empty();
 
     const auto start = std::chrono::steady_clock::now();
     volumes::LoadOptions load;
@@ -86,8 +64,8 @@ void runRender(RenderOptions options) {
 
     engine::GpuContext context(engine::GpuContextOptions{false, options.device});
     engine::VolumeTexture texture(context, loaded.volume);
-    engine::Raycaster raycaster(context, texture, loaded.bricks);
-    const engine::RenderedImage image = raycaster.render(engine::viewRaysFrom(camera), options.settings);
+    engine::Raycaster raycaster(context, loaded.volume, texture, loaded.bricks);
+    const engine::RenderedImage image = raycaster.render(engine::viewRaysFrom(camera), settings);
     engine::writePng(options.outPath, image.width, image.height, image.rgba, options.force);
     if (!options.hitsPath.empty()) {
         engine::writeHitImageNrrd(options.hitsPath, image.width, image.height, image.hitMm, options.force);
@@ -98,49 +76,122 @@ void runRender(RenderOptions options) {
     if (image.deviceMs >= 0.0) std::cout << "ray casting " << image.deviceMs << " ms, ";
     std::cout << "total " << totalS << " s\nwrote " << options.outPath << '\n';
     if (!options.hitsPath.empty()) std::cout << "wrote " << options.hitsPath << '\n';
+    if (options.isPrintingStats) {
+        // A second pass with the counting variant of the shader, so the timed pass is the real one.
+        settings.isWritingHits = true;
+        settings.isCountingFetches = true;
+        const engine::RenderedImage counted = raycaster.render(engine::viewRaysFrom(camera), settings);
+        double sum = 0.0, most = 0.0;
+        for (std::size_t i = 3; i < counted.hitMm.size(); i += 4) {
+            sum += counted.hitMm[i];
+            most = std::max(most, static_cast<double>(counted.hitMm[i]));
+        }
+        const double rays = static_cast<double>(counted.hitMm.size() / 4);
+        std::cout << "fetches per ray: mean " << sum / rays << ", max " << most << "; " << sum / (image.deviceMs * 1e-3)
+                  << " fetches per second\n";
+    }
 }
 
 }  // namespace
 
+engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isDisplay) {
+    engine::RenderSettings settings = options.settings;
+    settings.mode = options.mode == "composite" ? engine::RenderMode::Composite : engine::RenderMode::IsoSurface;
+    settings.filter = options.filter == "tricubic" ? engine::VolumeFilter::Tricubic : engine::VolumeFilter::Trilinear;
+    settings.isSkipping = !options.isSkippingOff;
+    settings.lightHalfDistanceMm = options.lightHalfDistanceMm >= 0.0 ? options.lightHalfDistanceMm : isDisplay ? 25.0 : 0.0;
+    if (settings.mode == engine::RenderMode::Composite) {
+        engine::transferFunctionPreset(settings.transferFunction);  // a typo fails before any loading
+    }
+    return settings;
+}
+
 void addRenderCommand(CLI::App& program) {
     auto options = std::make_shared<RenderOptions>();
     engine::RenderSettings& s = options->settings;
-    CLI::App* command = program.add_subcommand("render", "Render a CT volume from a pinhole camera to a PNG");
+    CLI::App* command = program.add_subcommand(
+        "render", "Render a CT volume: a pinhole view to a PNG, or with --display every wall for both eyes to a folder");
     command->add_option("volume,--volume", options->volumePath,
                         "Volume: DICOM folder, .nrrd/.nhdr, .nii/.nii.gz, .mha/.mhd, .vdb, or raw with --raw")
         ->required();
     command->add_option("--raw", options->rawSpec, "Describe a headerless raw file, e.g. 512x512x451:int16:0.7x0.7x1.25");
-    command->add_option("-o,--out", options->outPath, "Output PNG file")->capture_default_str();
-    command->add_option("--hits", options->hitsPath, "Also write first-hit positions (volume mm) to this .nrrd file");
+    command->add_option("-o,--out", options->outPath,
+                        "Output: a PNG file (pinhole view, default render.png) or a folder (--display, default frames)");
+    command->add_option("--hits", options->hitsPath, "Pinhole view: also write first-hit positions (volume mm) as .nrrd");
+    command->add_flag("--force", options->force, "Replace existing output");
+    command->add_flag("--stats", options->isPrintingStats,
+                      "Pinhole view: also print the volume fetches per ray and per second");
+    command->add_flag("--resume", options->resume, "Display: keep the finished frames in the folder, render the rest");
+
+    auto* camera = "Camera";
     command->add_option("--position", options->positionMm, "Camera position x,y,z in volume mm")
-        ->expected(3)->delimiter(',');
+        ->expected(3)->delimiter(',')->group(camera);
     command->add_option("--look-at", options->lookAtMm, "Point looked at, x,y,z in volume mm (default: centre)")
-        ->expected(3)->delimiter(',');
+        ->expected(3)->delimiter(',')->group(camera);
     command->add_option("--up", options->up, "Up vector x,y,z in volume axes (default: the patient's head)")
-        ->expected(3)->delimiter(',');
-    command->add_option("--fov", options->fovDeg, "Vertical field of view in degrees")->capture_default_str();
-    command->add_option("--size", options->size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
+        ->expected(3)->delimiter(',')->group(camera);
+    command->add_option("--fov", options->fovDeg, "Pinhole: vertical field of view in degrees")
+        ->capture_default_str()->group(camera);
+    command->add_option("--size", options->size, "Pinhole: image size WIDTHxHEIGHT in pixels")
+        ->capture_default_str()->group(camera);
+
+    auto* display = "Display";
+    command->add_option("--display", options->display, "ic5, cave6, cave4 or a display JSON file")->group(display);
+    command->add_option("--map", options->map, "Override the display's map: conformal, linear, none")
+        ->check(CLI::IsMember({"conformal", "linear", "none"}))->group(display);
+    command->add_option("--map-size", options->mapSize, "Cube-map texels per face edge")
+        ->capture_default_str()->group(display);
+    command->add_option("--warp", options->warp, "chord (the paper's Eq. 7) or exact (every sample mapped)")
+        ->check(CLI::IsMember({"chord", "exact"}))->capture_default_str()->group(display);
+    command->add_option("--scale", options->mmPerMetre, "Volume millimetres per CAVE metre")
+        ->capture_default_str()->group(display);
+    command->add_flag("--before-after", options->isWritingBeforeAfter,
+                      "Also write before_after.png: the centre eye's walls without and with the map")->group(display);
+    command->add_option("--path", options->pathFile, "Centreline: a phantom's JSON ground truth or a text file of x y z")
+        ->group(display);
+    command->add_option("--path-step", options->pathStepMm, "Arc length between frames in mm")
+        ->capture_default_str()->group(display);
+    command->add_option("--smoothing", options->smoothingMm, "Half-width in mm of the view-direction smoothing")
+        ->capture_default_str()->group(display);
+    command->add_flag("--retrograde", options->isRetrograde, "Fly from the path's end to its start")->group(display);
+    command->add_option("--frames", options->maxFrames, "Render at most this many frames of the path")->group(display);
+    command->add_option("--polyp", options->polyp,
+                        "One pose on the path from which polyp N of its ground truth is seen ahead and above")
+        ->group(display);
+    command->add_option("--polyp-elevation", options->polypElevationDeg,
+                        "Degrees above the horizon at which --polyp is seen (above ~37: on the IC's ceiling)")
+        ->capture_default_str()->group(display);
+
+    auto* rendering = "Rendering";
     command->add_option("--mode", options->mode, "iso (first crossing of --iso) or composite (--tf)")
-        ->check(CLI::IsMember({"iso", "composite"}))->capture_default_str();
-    command->add_option("--iso", s.isoHu, "Iso value in HU")->capture_default_str();
+        ->check(CLI::IsMember({"iso", "composite"}))->capture_default_str()->group(rendering);
+    command->add_option("--iso", s.isoHu, "Iso value in HU")->capture_default_str()->group(rendering);
     command->add_option("--tf", s.transferFunction, "Transfer function preset: colon-wall, soft-tissue, bone")
-        ->capture_default_str();
-    command->add_option("--step", s.stepVoxels, "March step in voxels")->capture_default_str();
+        ->capture_default_str()->group(rendering);
+    command->add_option("--step", s.stepVoxels, "March step in voxels")->capture_default_str()->group(rendering);
     command->add_option("--refine", s.refinementSteps, "Bisection steps refining each iso hit (0: none)")
-        ->capture_default_str();
+        ->capture_default_str()->group(rendering);
     command->add_option("--filter", options->filter, "trilinear (fast) or tricubic (B-spline, for stills)")
-        ->check(CLI::IsMember({"trilinear", "tricubic"}))->capture_default_str();
-    command->add_flag("--no-skip", options->isSkippingOff, "Turn off empty-space skipping");
-    command->add_flag("--adaptive", s.isAdaptive, "Lengthen steps where a pixel covers more than a voxel");
+        ->check(CLI::IsMember({"trilinear", "tricubic"}))->capture_default_str()->group(rendering);
+    command->add_flag("--no-skip", options->isSkippingOff, "Turn off empty-space skipping")->group(rendering);
+    command->add_flag("--adaptive", s.isAdaptive, "Lengthen steps where a pixel covers more than a voxel")
+        ->group(rendering);
     command->add_option("--jitter", s.jitterSeed, "Jitter ray starts with this seed (same seed, same image)")
-        ->each([&s](const std::string&) { s.isJittered = true; });
-    command->add_option("--light-distance", s.lightHalfDistanceMm,
-                        "Distance in mm at which the headlight is half as bright (0: no falloff)")
-        ->capture_default_str();
+        ->each([&s](const std::string&) { s.isJittered = true; })->group(rendering);
+    command->add_option("--light-distance", options->lightHalfDistanceMm,
+                        "Distance in mm at which the headlight is half as bright (0: no falloff; default: none for "
+                        "a pinhole view, 25 for a display)")->group(rendering);
     command->add_option("--device", options->device,
                         "Vulkan device: index, part of its name, 'cpu' or 'gpu' (default: $CVC_DEVICE, else the best)");
-    command->add_flag("--force", options->force, "Replace existing output files");
-    command->callback([options] { runRender(*options); });
+    command->callback([options] {
+        if (options->display.empty()) {
+            if (options->outPath.empty()) options->outPath = "render.png";
+            runPinholeRender(*options);
+        } else {
+            if (options->outPath.empty()) options->outPath = "frames";
+            runDisplayRender(*options);
+        }
+    });
 }
 
 }  // namespace app

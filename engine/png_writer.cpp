@@ -1,5 +1,6 @@
 #include "engine/png_writer.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -26,7 +27,8 @@ void onPngWarning(png_structp, png_const_charp) {}
 
 }  // namespace
 
-void writePng(const std::string& path, int width, int height, std::span<const uint8_t> rgba, bool overwrite) {
+void writePng(const std::string& path, int width, int height, std::span<const uint8_t> rgba, bool overwrite,
+              int compressionLevel) {
     if (width < 1 || height < 1 || rgba.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4) {
         throw std::invalid_argument(path + ": PNG pixel buffer does not match " + std::to_string(width) + "x" +
                                     std::to_string(height) + " RGBA");
@@ -52,7 +54,7 @@ void writePng(const std::string& path, int width, int height, std::span<const ui
     png_init_io(png, file.get());
     png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGBA,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_set_compression_level(png, 6);
+    png_set_compression_level(png, std::clamp(compressionLevel, 1, 9));
     png_write_info(png, info);
     for (int row = 0; row < height; ++row) {
         png_write_row(png, rgba.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(width) * 4);

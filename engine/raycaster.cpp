@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "engine/command_submission.h"
+#include "engine/empty_space_map.h"
 #include "host_device.h"
 #include "raycast_spv.h"
 
@@ -24,6 +25,7 @@ void validate(const RenderSettings& s) {
         if (!condition) throw std::invalid_argument("render settings: " + what);
     };
     require(s.stepVoxels >= 0.01 && s.stepVoxels <= 8.0, "step must be 0.01..8 voxels");
+    require(s.skipCellVoxels >= 1 && s.skipCellVoxels <= 64, "skipping cells must be 1..64 voxels");
     require(s.refinementSteps >= 0 && s.refinementSteps <= 32, "refinement steps must be 0..32");
     require(std::isfinite(s.isoHu), "iso value must be finite");
     require(s.minStepVoxels > 0.0 && s.minStepVoxels <= s.maxStepVoxels && s.maxStepVoxels <= 64.0,
@@ -66,15 +68,18 @@ struct Raycaster::Targets {
     GpuBuffer hitReadback;
 };
 
-Raycaster::Raycaster(const GpuContext& context, const VolumeTexture& volume, const volumes::BrickMinMax& bricks)
+Raycaster::Raycaster(const GpuContext& context, const volumes::Volume& volume, const VolumeTexture& texture,
+                     const volumes::BrickMinMax& bricks)
     : mContext(&context),
-      mVolume(&volume),
+      mVolumeData(&volume),
+      mVolume(&texture),
       mBricks(&bricks),
       mUniforms(context, sizeof(shaders::RaycastUniforms), vk::BufferUsageFlagBits::eUniformBuffer,
                 GpuBuffer::Memory::HostVisible, "ray-casting uniforms"),
       mCubeMap(makeIdentityCubeMapTexture(context)) {
-    if (bricks.brickDims != volumes::brickDimsFor(volume.dims())) {
-        throw std::invalid_argument("brick min/max does not belong to this volume");
+    if (volume.dims != texture.dims() || bricks.brickSize != volumes::kBrickSize ||
+        bricks.brickDims != volumes::brickDimsFor(volume.dims)) {
+        throw std::invalid_argument("volume, texture and brick min/max do not belong together");
     }
 }
 
@@ -89,11 +94,12 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
     const int32_t mode = settings.mode == RenderMode::Composite ? CVC_MODE_COMPOSITE : CVC_MODE_ISO;
     const int32_t filter = settings.filter == VolumeFilter::Tricubic ? CVC_FILTER_TRICUBIC : CVC_FILTER_TRILINEAR;
     const int32_t warpId = warp == WarpMode::Exact ? CVC_WARP_EXACT : warp == WarpMode::Chord ? CVC_WARP_CHORD : CVC_WARP_NONE;
-    const PipelineKey key{mode, filter, warpId, settings.isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0};
+    const PipelineKey key{mode, filter, warpId, settings.isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0,
+                          settings.isCountingFetches ? 1 : 0};
     auto& slot = mPipelines[key];
     if (!slot) {
-        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_ADAPTIVE.
-        const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key)};
+        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_COUNT_FETCHES.
+        const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key)};
         slot = std::make_unique<ComputePipeline>(
             *mContext, raycast_spv,
             std::vector<vk::DescriptorType>{vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eCombinedImageSampler,
@@ -116,21 +122,30 @@ const SampledTexture& Raycaster::transferTextureFor(const std::string& name) {
     return found->second;
 }
 
-const SampledTexture& Raycaster::occupancyFor(const RenderSettings& settings) {
+const SampledTexture& Raycaster::skipDistanceFor(const RenderSettings& settings) {
     std::ostringstream key;
     key.precision(17);
+    key << settings.skipCellVoxels << ':';
     if (settings.mode == RenderMode::IsoSurface) {
         key << "iso:" << settings.isoHu;
     } else {
         key << "tf:" << settings.transferFunction;
     }
-    auto found = mOccupancy.find(key.str());
-    if (found == mOccupancy.end()) {
-        const std::vector<uint8_t> occupancy =
+    auto found = mSkipDistances.find(key.str());
+    if (found == mSkipDistances.end()) {
+        const int cell = settings.skipCellVoxels;
+        if (cell != volumes::kBrickSize && !mFinerCells.count(cell)) {
+            mFinerCells.emplace(cell, volumes::buildBrickMinMax(*mVolumeData, cell));
+        }
+        const volumes::BrickMinMax& cells = cell == volumes::kBrickSize ? *mBricks : mFinerCells.at(cell);
+        const std::vector<uint8_t> occupied =
             settings.mode == RenderMode::IsoSurface
-                ? volumes::bricksForIsoValue(*mBricks, settings.isoHu)
-                : volumes::bricksForOpacity(*mBricks, opacityTableOf(mTransferTables.at(settings.transferFunction)));
-        found = mOccupancy.emplace(key.str(), makeBrickOccupancyTexture(*mContext, mBricks->brickDims, occupancy)).first;
+                ? volumes::bricksForIsoValue(cells, settings.isoHu)
+                : volumes::bricksForOpacity(cells, opacityTableOf(mTransferTables.at(settings.transferFunction)));
+        found = mSkipDistances
+                    .emplace(key.str(), makeSkipDistanceTexture(*mContext, cells.brickDims,
+                                                                chebyshevDistanceMap(occupied, cells.brickDims)))
+                    .first;
     }
     return found->second;
 }
@@ -148,18 +163,17 @@ RenderedImage Raycaster::render(const ViewRays& rays, const RenderSettings& sett
                                                                                                : "colon-wall");
     const TransferTable& table = mTransferTables.at(settings.mode == RenderMode::Composite ? settings.transferFunction
                                                                                            : "colon-wall");
-    const SampledTexture& occupancy = occupancyFor(settings);
+    const SampledTexture& skipDistance = skipDistanceFor(settings);
     ComputePipeline& pipeline = pipelineFor(settings, warp.mode);
 
-    if (!mTargets || mTargets->width != rays.width || mTargets->height != rays.height) {
-        mTargets.reset();
-        mTargets = std::make_unique<Targets>(*mContext, rays.width, rays.height);
-    }
+    auto& slot = mTargets[{rays.width, rays.height}];
+    if (!slot) slot = std::make_unique<Targets>(*mContext, rays.width, rays.height);
+    Targets& targets = *slot;
     pipeline.bindBuffer(CVC_BINDING_UNIFORMS, mUniforms);
     pipeline.bindSampledImage(CVC_BINDING_VOLUME, mVolume->image(), mVolume->sampler());
-    pipeline.bindStorageImage(CVC_BINDING_COLOR_IMAGE, mTargets->color);
-    pipeline.bindStorageImage(CVC_BINDING_HIT_IMAGE, mTargets->hit);
-    pipeline.bindSampledImage(CVC_BINDING_BRICKS, occupancy.image, occupancy.sampler);
+    pipeline.bindStorageImage(CVC_BINDING_COLOR_IMAGE, targets.color);
+    pipeline.bindStorageImage(CVC_BINDING_HIT_IMAGE, targets.hit);
+    pipeline.bindSampledImage(CVC_BINDING_SKIP_DISTANCE, skipDistance.image, skipDistance.sampler);
     pipeline.bindSampledImage(CVC_BINDING_TRANSFER_FUNCTION, transfer.image, transfer.sampler);
     pipeline.bindSampledImage(CVC_BINDING_CUBE_MAP, mCubeMap.image, mCubeMap.sampler);
 
@@ -192,7 +206,7 @@ RenderedImage Raycaster::render(const ViewRays& rays, const RenderSettings& sett
     u.boxMaxMm = vec4Of(boxMax);
     u.texFromMmScale = vec4Of(1.0 / (dims * spacing));
     u.texFromMmOffset = vec4Of(0.5 / dims);
-    u.volumeDims = vec4Of(dims);
+    u.volumeDims = vec4Of(dims, settings.skipCellVoxels);
     u.invSpacingMm = vec4Of(1.0 / spacing);
     u.march = glm::vec4(static_cast<float>(stepMm), static_cast<float>(settings.isoHu),
                         static_cast<float>(settings.refinementSteps), static_cast<float>(maxSteps));
@@ -209,7 +223,6 @@ RenderedImage Raycaster::render(const ViewRays& rays, const RenderSettings& sett
     mUniforms.write(std::as_bytes(std::span(&u, 1)));
 
     GpuTimer timer(*mContext);
-    Targets& targets = *mTargets;
     submitAndWait(*mContext, [&](const vk::raii::CommandBuffer& commands) {
         recordImageBarrier(commands, targets.color, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);
         recordImageBarrier(commands, targets.hit, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);

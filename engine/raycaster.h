@@ -32,7 +32,8 @@ struct RenderSettings {
     double stepVoxels = 0.5;                      // base step, in units of the smallest voxel side
     int refinementSteps = 6;                      // iso mode: bisection steps; 0 = the raw sample
     VolumeFilter filter = VolumeFilter::Trilinear;
-    bool isSkipping = true;                       // empty-space skipping over 8^3 bricks
+    bool isSkipping = true;                       // empty-space skipping over a distance map
+    int skipCellVoxels = 2;                       // cell edge of that map, voxels (8: the 8^3 bricks)
     bool isAdaptive = false;                      // lengthen steps where a pixel covers > 1 voxel
     double minStepVoxels = 0.25;                  // adaptive step bounds
     double maxStepVoxels = 4.0;
@@ -44,6 +45,7 @@ struct RenderSettings {
     double fresnel = 0.04;
     double ambient = 0.10;
     bool isWritingHits = true;                    // fill RenderedImage::hitMm
+    bool isCountingFetches = false;               // benchmarks: hitMm's w = volume fetches per ray
 };
 
 /// The warp of space about the map centre (DESIGN.md "Rays"), in volume millimetres.
@@ -65,10 +67,15 @@ struct RenderedImage {
 };
 
 /// Holds the volume's textures, the pipelines (one per feature combination, built on first
-/// use) and the output images, so the walls, eyes and frames of a sequence share them.
+/// use), the empty-space maps (one per iso value or transfer function and cell size) and the
+/// output images, so the walls, eyes and frames of a sequence share them.
 class Raycaster {
 public:
-    Raycaster(const GpuContext& context, const VolumeTexture& volume, const volumes::BrickMinMax& bricks);
+    /// `volume` is the CPU copy of what `texture` holds (finer skipping cells are built from
+    /// it); `bricks` its 8^3 brick min/max, used as is for 8-voxel cells (e.g. from .vdb leaves).
+    /// Both must outlive the ray caster.
+    Raycaster(const GpuContext& context, const volumes::Volume& volume, const VolumeTexture& texture,
+              const volumes::BrickMinMax& bricks);
     ~Raycaster();
 
     /// Binds the baked map that WarpMode::Chord and ::Exact bend rays with: the texels of a
@@ -81,23 +88,25 @@ public:
 
 private:
     struct Targets;
-    using PipelineKey = std::tuple<int, int, int, int, int>;
+    using PipelineKey = std::tuple<int, int, int, int, int, int>;
 
     ComputePipeline& pipelineFor(const RenderSettings& settings, WarpMode warp);
-    const SampledTexture& occupancyFor(const RenderSettings& settings);
+    const SampledTexture& skipDistanceFor(const RenderSettings& settings);
     const SampledTexture& transferTextureFor(const std::string& name);
 
     const GpuContext* mContext;
+    const volumes::Volume* mVolumeData;
     const VolumeTexture* mVolume;
     const volumes::BrickMinMax* mBricks;
+    std::map<int, volumes::BrickMinMax> mFinerCells;  // by cell size
     GpuBuffer mUniforms;
     SampledTexture mCubeMap;
     bool mHasCubeMap = false;
     std::map<PipelineKey, std::unique_ptr<ComputePipeline>> mPipelines;
-    std::map<std::string, SampledTexture> mOccupancy;        // by "iso:<value>" or "tf:<name>"
+    std::map<std::string, SampledTexture> mSkipDistances;    // by cell size and "iso:<value>" or "tf:<name>"
     std::map<std::string, SampledTexture> mTransferTextures;  // by preset name
     std::map<std::string, TransferTable> mTransferTables;
-    std::unique_ptr<Targets> mTargets;
+    std::map<std::pair<int, int>, std::unique_ptr<Targets>> mTargets;  // by image size
 };
 
 }  // namespace engine

@@ -21,22 +21,22 @@ constexpr auto kSampledUsage = vk::ImageUsageFlagBits::eSampled | vk::ImageUsage
 
 }  // namespace
 
-SampledTexture makeBrickOccupancyTexture(const GpuContext& context, const std::array<int, 3>& brickDims,
-                                         const std::vector<uint8_t>& occupancy) {
-    const std::size_t count = static_cast<std::size_t>(brickDims[0]) * static_cast<std::size_t>(brickDims[1]) *
-                              static_cast<std::size_t>(brickDims[2]);
-    if (count == 0 || occupancy.size() != count) {
-        throw std::invalid_argument("brick occupancy holds " + std::to_string(occupancy.size()) + " bricks, expected " +
+SampledTexture makeSkipDistanceTexture(const GpuContext& context, const std::array<int, 3>& cellDims,
+                                       const std::vector<uint8_t>& distances) {
+    const std::size_t count = static_cast<std::size_t>(cellDims[0]) * static_cast<std::size_t>(cellDims[1]) *
+                              static_cast<std::size_t>(cellDims[2]);
+    if (count == 0 || distances.size() != count) {
+        throw std::invalid_argument("skip distance map holds " + std::to_string(distances.size()) + " cells, expected " +
                                     std::to_string(count));
     }
-    // A 3D image needs depth > 1 to be made 3D by GpuImage; a one-brick-deep volume is padded
-    // with a second, empty layer that no sample can reach.
-    const uint32_t depth = static_cast<uint32_t>(std::max(brickDims[2], 2));
-    std::vector<uint8_t> texels(occupancy);
-    texels.resize(count / static_cast<std::size_t>(brickDims[2]) * depth, 0);
+    // GpuImage makes a 3D image only for depth > 1: a one-cell-deep map gets a second layer,
+    // a copy of the first, which the shader's clamped reads may see without harm.
+    const uint32_t depth = static_cast<uint32_t>(std::max(cellDims[2], 2));
+    std::vector<uint8_t> texels(distances);
+    if (cellDims[2] == 1) texels.insert(texels.end(), distances.begin(), distances.end());
     SampledTexture texture{GpuImage(context,
-                                    vk::Extent3D(static_cast<uint32_t>(brickDims[0]), static_cast<uint32_t>(brickDims[1]), depth),
-                                    vk::Format::eR8Uint, kSampledUsage, "brick occupancy"),
+                                    vk::Extent3D(static_cast<uint32_t>(cellDims[0]), static_cast<uint32_t>(cellDims[1]), depth),
+                                    vk::Format::eR8Uint, kSampledUsage, "empty-space distance map"),
                            vk::raii::Sampler(context.device(), samplerInfo(vk::Filter::eNearest))};
     uploadImage(context, texture.image, std::as_bytes(std::span(texels)));
     return texture;

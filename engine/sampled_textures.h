@@ -18,9 +18,10 @@ struct SampledTexture {
     vk::raii::Sampler sampler;
 };
 
-/// One byte per 8^3 brick (1 = may contribute), an R8_UINT 3D image read with texelFetch.
-SampledTexture makeBrickOccupancyTexture(const GpuContext& context, const std::array<int, 3>& brickDims,
-                                         const std::vector<uint8_t>& occupancy);
+/// The empty-space distance map (one byte per cell, see empty_space_map.h) as an R8_UINT 3D
+/// image read with texelFetch.
+SampledTexture makeSkipDistanceTexture(const GpuContext& context, const std::array<int, 3>& cellDims,
+                                       const std::vector<uint8_t>& distances);
 
 /// The transfer table as an n x 1 RGBA16 image with linear filtering, clamped at both ends.
 SampledTexture makeTransferTexture(const GpuContext& context, const TransferTable& table);

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Usage: scripts/demo.sh [output-folder]
-# Installs what is missing, builds conformal-vc, and renders the default scenes to PNGs:
-# an analytic ball phantom and the shipped abdominal CT (../shared/data), seen from the front.
+# The product's default job. Installs what is missing, builds conformal-vc, makes the colon
+# phantom (with polyps and its ground truth), and renders the 5-wall Immersive Cabin for both
+# eyes through the conformal map, at the pose from which a polyp sits on the missing ceiling;
+# also writes the before/after sheet (walls without the map beside walls with it) and a
+# first-light picture of the shipped abdominal CT.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/demo}
@@ -9,13 +12,18 @@ scripts/setup.sh build
 mkdir -p "$out"
 cvc=build/app/cvc
 
-"$cvc" phantom --kind ball --size 128 --force -o "$out/ball_phantom.nrrd"
-"$cvc" render "$out/ball_phantom.nrrd" --iso 0 --size 1024x1024 --force -o "$out/ball_phantom.png"
+"$cvc" phantom --force -o "$out/colon.nrrd"
+"$cvc" render "$out/colon.nrrd" --display ic5 --path "$out/colon.json" --polyp 3 --polyp-elevation 50 \
+  --scale 4 --before-after --force -o "$out/ic5_polyp"
 
 ct=../shared/data/ct/ts_example_abdomen_3mm.nrrd
 if [ -f "$ct" ]; then
   "$cvc" render "$ct" --iso -500 --size 1024x1024 --force -o "$out/abdomen_ct.png"
 else
-  echo "demo: $ct not found; skipping the real-CT render"
+  echo "demo: $ct not found; skipping the real-CT picture"
 fi
-echo "demo: images are in $(cd "$out" && pwd)"
+
+frame="$(cd "$out/ic5_polyp/frame_0000" && pwd)"
+echo "demo: the 5-wall stereo set is in $frame/left and $frame/right (front, back, left, right, floor)"
+echo "demo: review sheet (left eye, right eye, anaglyph): $frame/sheet.png"
+echo "demo: look at the before/after sheet: $frame/before_after.png"

@@ -20,7 +20,7 @@ using uvec4 = glm::uvec4;
 #define CVC_BINDING_VOLUME 1
 #define CVC_BINDING_COLOR_IMAGE 2
 #define CVC_BINDING_HIT_IMAGE 3
-#define CVC_BINDING_BRICKS 4
+#define CVC_BINDING_SKIP_DISTANCE 4  // the empty-space distance map
 #define CVC_BINDING_TRANSFER_FUNCTION 5
 #define CVC_BINDING_CUBE_MAP 6
 
@@ -31,6 +31,7 @@ using uvec4 = glm::uvec4;
 #define CVC_SPEC_WARP 2        // CVC_WARP_*
 #define CVC_SPEC_SKIPPING 3    // 1: empty-space skipping over bricks
 #define CVC_SPEC_ADAPTIVE 4    // 1: adaptive step size
+#define CVC_SPEC_COUNT_FETCHES 5  // 1: hit image w = texture fetches the ray made (benchmarks)
 
 #define CVC_MODE_ISO 0
 #define CVC_MODE_COMPOSITE 1
@@ -46,9 +47,6 @@ using uvec4 = glm::uvec4;
 
 // Work-group size of the image-space shaders (pixels per group along x and y).
 #define CVC_TILE_SIZE 8
-
-// Voxels along one edge of an empty-space-skipping brick (an OpenVDB leaf).
-#define CVC_BRICK_SIZE 8
 
 /// Everything one ray-casting dispatch needs. Positions and lengths are in volume millimetres
 /// (voxel (i, j, k) centred at (i, j, k) * spacing, see volumes/volume.h).
@@ -69,7 +67,7 @@ struct RaycastUniforms {
     vec4 boxMaxMm;         // xyz: upper corner
     vec4 texFromMmScale;   // xyz: 1 / (dims * spacing); texture coordinate = p * scale + offset
     vec4 texFromMmOffset;  // xyz: 0.5 / dims (voxel centres sit at (i + 0.5) / dims)
-    vec4 volumeDims;       // xyz: voxels per axis (float)
+    vec4 volumeDims;       // xyz: voxels per axis (float); w: voxels per skipping cell edge
     vec4 invSpacingMm;     // xyz: 1 / spacing
     // Marching
     vec4 march;            // x: base step (mm); y: iso value (HU); z: refinement steps; w: max steps

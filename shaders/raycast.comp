@@ -15,12 +15,16 @@ layout(constant_id = CVC_SPEC_FILTER) const int kFilter = CVC_FILTER_TRILINEAR;
 layout(constant_id = CVC_SPEC_WARP) const int kWarp = CVC_WARP_NONE;
 layout(constant_id = CVC_SPEC_SKIPPING) const bool kSkipping = false;
 layout(constant_id = CVC_SPEC_ADAPTIVE) const bool kAdaptive = false;
+layout(constant_id = CVC_SPEC_COUNT_FETCHES) const bool kCountFetches = false;
+
+// Volume fetches this invocation made (only kept when kCountFetches: a benchmark's counter).
+uint gFetchCount = 0u;
 
 layout(std140, binding = CVC_BINDING_UNIFORMS) uniform Uniforms { RaycastUniforms u; };
 layout(binding = CVC_BINDING_VOLUME) uniform sampler3D volumeTexture;
 layout(binding = CVC_BINDING_COLOR_IMAGE, rgba8) uniform writeonly image2D colorImage;
 layout(binding = CVC_BINDING_HIT_IMAGE, rgba32f) uniform writeonly image2D hitImage;
-layout(binding = CVC_BINDING_BRICKS) uniform usampler3D brickOccupancy;
+layout(binding = CVC_BINDING_SKIP_DISTANCE) uniform usampler3D skipDistance;
 layout(binding = CVC_BINDING_TRANSFER_FUNCTION) uniform sampler2D transferFunction;
 layout(binding = CVC_BINDING_CUBE_MAP) uniform samplerCube cubeMap;
 
@@ -28,7 +32,6 @@ layout(binding = CVC_BINDING_CUBE_MAP) uniform samplerCube cubeMap;
 #include "ray_generation.glsl"
 #include "jitter.glsl"
 #include "volume_sampling.glsl"
-#include "empty_space.glsl"
 #include "transfer_function.glsl"
 #include "cook_torrance.glsl"
 
@@ -40,11 +43,19 @@ const vec3 kSurfaceColor = vec3(0.93, 0.60, 0.50);  // iso-surface albedo, a muc
 struct Segment {
     vec3 origin;
     vec3 dir;
+    vec3 tcOrigin;      // the same segment in texture coordinates (not used by exact mode)
+    vec3 tcDir;
     float tStart;
     float tEnd;
     float eyeDistance;  // distance from the eye to origin + tStart * dir, minus tStart
     float localScale;   // the map's local scale along this pixel's display direction
 };
+
+Segment withTextureRay(Segment s) {
+    s.tcOrigin = texFromMm(s.origin);
+    s.tcDir = s.dir * u.texFromMmScale.xyz;
+    return s;
+}
 
 Segment segmentForPixel(uvec2 pixel) {
     vec3 eye = u.eyeMm.xyz;
@@ -62,7 +73,7 @@ Segment segmentForPixel(uvec2 pixel) {
         s.dir = dir;
         s.tStart = max(span.x, tNear);
         s.tEnd = span.y;
-        return s;
+        return withTextureRay(s);
     }
     // The far point lies beyond the farthest box corner as seen from the map centre, so the
     // bent ray reaches the far side of the box whichever way the map turns it.
@@ -87,7 +98,7 @@ Segment segmentForPixel(uvec2 pixel) {
     s.tStart = max(span.x, 0.0);
     s.tEnd = min(span.y, chordLength);
     s.eyeDistance = tNear;
-    return s;
+    return withTextureRay(s);
 }
 
 vec3 pointAt(Segment s, float t) {
@@ -95,10 +106,12 @@ vec3 pointAt(Segment s, float t) {
     return kWarp == CVC_WARP_EXACT ? warpPoint(p) : p;
 }
 
-// HU at ray parameter t; points an exact-warped ray bends outside the box read as air.
+// HU at ray parameter t; points an exact-warped ray bends outside the box read as air. A
+// straight segment steps in texture coordinates directly: one multiply-add per sample.
 float valueAt(Segment s, float t) {
+    if (kWarp != CVC_WARP_EXACT) return huFromUnorm(fetchFiltered(s.tcOrigin + t * s.tcDir));
     vec3 p = pointAt(s, t);
-    if (kWarp == CVC_WARP_EXACT && !isInsideBox(p)) return -32768.0;
+    if (!isInsideBox(p)) return -32768.0;
     return sampleHu(p);
 }
 
@@ -106,6 +119,8 @@ float minSpacingMm() {
     vec3 spacing = 1.0 / u.invSpacingMm.xyz;
     return min(min(spacing.x, spacing.y), spacing.z);
 }
+
+#include "empty_space.glsl"
 
 // Step length at t: the base step, lengthened where one pixel covers more than a voxel (far
 // away, or where the map compresses the scene), within [min step, max step].
@@ -115,21 +130,24 @@ float stepAt(Segment s, float t) {
     return clamp(u.march.x * max(1.0, footprintMm / minSpacingMm()), u.adaptive.x, u.adaptive.y);
 }
 
-// Moves t past the empty brick that contains it when skipping is on; returns true if it did.
-// With a fixed step the new t stays on the grid of t's that an unskipped ray visits, so the
-// image does not change; tPrev becomes the grid point before it, which lies in empty space.
-bool skipEmptyBrick(Segment s, vec3 invDir, inout ivec3 currentBrick, inout bool isOccupied,
-                    inout float t, inout float tPrev) {
-    if (!kSkipping || kWarp == CVC_WARP_EXACT) return false;
-    ivec3 brick = brickOf(s.origin + t * s.dir);
-    if (brick != currentBrick) {
-        currentBrick = brick;
-        isOccupied = isBrickOccupied(brick);
-    }
-    if (isOccupied) return false;
+// Empty-space skipping: once t has left the cell last looked up, reads the distance map at t.
+// At a distance of d > 1 cells, everything within (d - 1) cells is empty: t moves to the last
+// sample position that stays inside that range, and the function returns true. With a fixed
+// step the new t stays on the grid of t's an unskipped ray visits, so the image does not
+// change; tPrev becomes the grid point before it, which lies in empty space. Near matter the
+// per-sample cost is one comparison until the ray enters the next cell.
+bool skipEmptySpace(Segment s, vec3 invDir, inout float tCheck, inout float t, inout float tPrev) {
+    if (!kSkipping || kWarp == CVC_WARP_EXACT || t < tCheck) return false;
+    ivec3 cell = cellOf(s.origin + t * s.dir);
+    uint distanceCells = skipDistanceAt(cell);
     float step = stepAt(s, t);
-    float stepsToExit = max(1.0, ceil((brickExitT(s.origin, invDir, brick) - t) / step));
-    t += stepsToExit * step;
+    float freeMm = float(max(distanceCells, 1u) - 1u) * cellVoxels() * minSpacingMm();
+    float steps = floor(freeMm / step);
+    if (steps < 1.0) {
+        tCheck = cellExitT(s.origin, invDir, cell);
+        return false;
+    }
+    t += steps * step;
     tPrev = t - step;
     return true;
 }
@@ -154,8 +172,7 @@ void main() {
     vec3 color = kBackground;
     vec4 hit = vec4(0.0);
     if (s.tStart < s.tEnd) {
-        ivec3 currentBrick = ivec3(-2147483647);
-        bool isOccupied = true;
+        float tCheck = -1.0;  // read the distance map at the first sample
         float tPrev = s.tStart;
         float t = s.tStart;
         if (kMode == CVC_MODE_ISO) {
@@ -163,7 +180,7 @@ void main() {
             float tHit = t;
             t += (jitter > 0.0 ? jitter : 1.0) * stepAt(s, t);  // tStart itself was just sampled
             for (int i = 0; i < maxSteps && !isHit && t <= s.tEnd; ++i) {
-                if (skipEmptyBrick(s, invDir, currentBrick, isOccupied, t, tPrev)) continue;
+                if (skipEmptySpace(s, invDir, tCheck, t, tPrev)) continue;
                 float value = valueAt(s, t);
                 if (value >= iso) {
                     // The crossing lies in (tPrev, t]: bisect, keeping lo below and hi at or
@@ -198,7 +215,7 @@ void main() {
             vec4 accumulated = vec4(0.0);
             t += jitter * stepAt(s, t);
             for (int i = 0; i < maxSteps && t <= s.tEnd; ++i) {
-                if (skipEmptyBrick(s, invDir, currentBrick, isOccupied, t, tPrev)) continue;
+                if (skipEmptySpace(s, invDir, tCheck, t, tPrev)) continue;
                 float step = stepAt(s, t);
                 vec3 p = pointAt(s, t);
                 vec4 sampleColor = classify(valueAt(s, t), step);
@@ -219,5 +236,6 @@ void main() {
         }
     }
     imageStore(colorImage, ivec2(pixel), vec4(pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0));
+    if (kCountFetches) hit.w = float(gFetchCount);
     if ((u.frame.w & CVC_FLAG_WRITE_HITS) != 0u) imageStore(hitImage, ivec2(pixel), hit);
 }

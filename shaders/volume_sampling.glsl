@@ -8,7 +8,10 @@ float huFromUnorm(float v) { return v * 65535.0 - 32768.0; }
 
 vec3 texFromMm(vec3 pMm) { return pMm * u.texFromMmScale.xyz + u.texFromMmOffset.xyz; }
 
-float fetchTrilinear(vec3 tc) { return textureLod(volumeTexture, tc, 0.0).r; }
+float fetchTrilinear(vec3 tc) {
+    if (kCountFetches) ++gFetchCount;
+    return textureLod(volumeTexture, tc, 0.0).r;
+}
 
 // Tricubic B-spline from 8 trilinear fetches (Sigg and Hadwiger, GPU Gems 2, ch. 20): per
 // axis the four B-spline weights fold into two linear fetches at shifted positions.

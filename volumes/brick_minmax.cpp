@@ -14,9 +14,9 @@ namespace {
 /// `in` has extents (n0, n1, n2) with the reduced axis `axis`; the output has the same
 /// extents except ceil(n_axis / 8) along `axis`. Window b covers [8b - 1, 8b + 8] clamped.
 void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& inMax, std::array<int, 3> extents,
-                int axis, std::vector<int16_t>& outMin, std::vector<int16_t>& outMax) {
+                int axis, int brickSize, std::vector<int16_t>& outMin, std::vector<int16_t>& outMax) {
     const int n = extents[static_cast<std::size_t>(axis)];
-    const int bricks = (n + kBrickSize - 1) / kBrickSize;
+    const int bricks = (n + brickSize - 1) / brickSize;
     std::array<int, 3> outExtents = extents;
     outExtents[static_cast<std::size_t>(axis)] = bricks;
     const std::size_t outCount = static_cast<std::size_t>(outExtents[0]) * static_cast<std::size_t>(outExtents[1]) *
@@ -45,8 +45,8 @@ void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& i
                     static_cast<std::size_t>(outExtents[0]) *
                         (static_cast<std::size_t>(b) + static_cast<std::size_t>(outExtents[1]) * c);
                 for (int brick = 0; brick < bricks; ++brick) {
-                    const int first = std::max(brick * kBrickSize - 1, 0);
-                    const int last = std::min(brick * kBrickSize + kBrickSize, n - 1);
+                    const int first = std::max(brick * brickSize - 1, 0);
+                    const int last = std::min(brick * brickSize + brickSize, n - 1);
                     int16_t lo = std::numeric_limits<int16_t>::max(), hi = std::numeric_limits<int16_t>::min();
                     for (int v = first; v <= last; ++v) {
                         const std::size_t at = inBase + static_cast<std::size_t>(v) * inStride;
@@ -63,26 +63,28 @@ void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& i
 
 }  // namespace
 
-std::array<int, 3> brickDimsFor(const std::array<int, 3>& dims) {
-    return {(dims[0] + kBrickSize - 1) / kBrickSize, (dims[1] + kBrickSize - 1) / kBrickSize,
-            (dims[2] + kBrickSize - 1) / kBrickSize};
+std::array<int, 3> brickDimsFor(const std::array<int, 3>& dims, int brickSize) {
+    return {(dims[0] + brickSize - 1) / brickSize, (dims[1] + brickSize - 1) / brickSize,
+            (dims[2] + brickSize - 1) / brickSize};
 }
 
-BrickMinMax buildBrickMinMax(const Volume& volume) {
+BrickMinMax buildBrickMinMax(const Volume& volume, int brickSize) {
     validateVolume(volume, "brick min/max input");
+    if (brickSize < 1 || brickSize > 64) throw VolumeError("brick size " + std::to_string(brickSize) + " is outside 1..64");
     BrickMinMax bricks;
-    bricks.brickDims = brickDimsFor(volume.dims);
+    bricks.brickSize = brickSize;
+    bricks.brickDims = brickDimsFor(volume.dims, brickSize);
 
     // Pass x reads the voxels once (as both min and max input); passes y and z read the
-    // already reduced arrays, 1/8 and 1/64 of the volume.
+    // already reduced arrays (1/8 and 1/64 of the volume for 8^3 bricks).
     std::vector<int16_t> xMin, xMax, yMin, yMax;
-    reduceAxis(volume.hu, volume.hu, volume.dims, 0, xMin, xMax);
+    reduceAxis(volume.hu, volume.hu, volume.dims, 0, brickSize, xMin, xMax);
     std::array<int, 3> extents{bricks.brickDims[0], volume.dims[1], volume.dims[2]};
-    reduceAxis(xMin, xMax, extents, 1, yMin, yMax);
+    reduceAxis(xMin, xMax, extents, 1, brickSize, yMin, yMax);
     xMin = {};
     xMax = {};
     extents[1] = bricks.brickDims[1];
-    reduceAxis(yMin, yMax, extents, 2, bricks.minHu, bricks.maxHu);
+    reduceAxis(yMin, yMax, extents, 2, brickSize, bricks.minHu, bricks.maxHu);
     return bricks;
 }
 

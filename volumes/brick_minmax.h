@@ -21,6 +21,7 @@ inline constexpr int kBrickSize = 8;
 /// volume. Brick (bx, by, bz) is stored at index bx + brickDims[0] * (by + brickDims[1] * bz),
 /// so minHu/maxHu upload as a 3D image of brickDims = ceil(dims / 8) texels.
 struct BrickMinMax {
+    int brickSize = kBrickSize;  ///< voxels along a brick's edge (8, or finer for the renderer's skipping)
     std::array<int, 3> brickDims{0, 0, 0};
     std::vector<int16_t> minHu;
     std::vector<int16_t> maxHu;
@@ -37,12 +38,13 @@ struct BrickMinMax {
     }
 };
 
-/// Brick counts per axis for a volume of `dims` voxels: ceil(dims / 8).
-std::array<int, 3> brickDimsFor(const std::array<int, 3>& dims);
+/// Brick counts per axis for a volume of `dims` voxels: ceil(dims / brickSize).
+std::array<int, 3> brickDimsFor(const std::array<int, 3>& dims, int brickSize = kBrickSize);
 
 /// Builds the ranges from the dense voxels with separable min/max passes (x, then y, then z),
-/// about 1.3 reads per voxel.
-BrickMinMax buildBrickMinMax(const Volume& volume);
+/// about 1.3 reads per voxel. `brickSize` (1..64) other than 8 gives finer or coarser cells
+/// with the same one-voxel apron: [s b - 1, s b + s] per axis.
+BrickMinMax buildBrickMinMax(const Volume& volume, int brickSize = kBrickSize);
 
 /// Marks the bricks an iso-surface at `isoHu` can pass through: those whose range (apron
 /// included) satisfies min <= iso <= max. One byte per brick, 1 = may contribute.

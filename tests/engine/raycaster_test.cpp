@@ -26,7 +26,7 @@ constexpr double kPi = 3.14159265358979323846;
 struct Scene {
     Scene(const engine::GpuContext& context, volumes::Volume v)
         : volume(std::move(v)), bricks(volumes::buildBrickMinMax(volume)), texture(context, volume),
-          raycaster(context, texture, bricks) {}
+          raycaster(context, volume, texture, bricks) {}
     volumes::Volume volume;
     volumes::BrickMinMax bricks;
     engine::VolumeTexture texture;
@@ -188,12 +188,16 @@ TEST_F(Raycasting, SkippingLeavesTheImageUnchanged) {
             settings.jitterSeed = 17;
             settings.isSkipping = false;
             const auto plain = scene.raycaster.render(rays, settings);
-            settings.isSkipping = true;
-            const auto skipped = scene.raycaster.render(rays, settings);
-            const auto [worst, mean] = colorDifference(plain, skipped);
-            EXPECT_LE(worst, 1) << "mode " << static_cast<int>(mode) << " jitter " << isJittered;
-            EXPECT_LT(mean, 0.01);
-            EXPECT_EQ(hitCount(plain), hitCount(skipped));
+            // Fine cells, the 8^3 bricks, and single voxels.
+            for (int cell : {2, 8, 1}) {
+                settings.isSkipping = true;
+                settings.skipCellVoxels = cell;
+                const auto skipped = scene.raycaster.render(rays, settings);
+                const auto [worst, mean] = colorDifference(plain, skipped);
+                EXPECT_LE(worst, 1) << "mode " << static_cast<int>(mode) << " jitter " << isJittered << " cell " << cell;
+                EXPECT_LT(mean, 0.01);
+                EXPECT_EQ(hitCount(plain), hitCount(skipped));
+            }
         }
     }
 }

@@ -26,7 +26,7 @@ using engine::WallName;
 struct SphericalRoom {
     SphericalRoom(const engine::GpuContext& context)
         : volume(makeVolume()), bricks(volumes::buildBrickMinMax(volume)), texture(context, volume),
-          raycaster(context, texture, bricks) {}
+          raycaster(context, volume, texture, bricks) {}
 
     static volumes::BallSpec spec() {
         volumes::BallSpec room;

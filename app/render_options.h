@@ -1,0 +1,58 @@
+/// @brief Everything `cvc render` takes on the command line.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "engine/raycaster.h"
+
+namespace app {
+
+struct RenderOptions {
+    // Input
+    std::string volumePath;
+    std::string rawSpec;
+    // Output: a PNG for a pinhole view, a folder for a display
+    std::string outPath;
+    std::string hitsPath;
+    bool isPrintingStats = false;  // pinhole: also count the volume fetches each ray makes
+    bool force = false;
+    bool resume = false;
+    // Camera (pinhole), or the single pose of a display
+    std::vector<double> positionMm;
+    std::vector<double> lookAtMm;
+    std::vector<double> up;
+    double fovDeg = 40.0;
+    std::string size = "1024x1024";
+    // Display
+    std::string display;
+    std::string map;  // empty: the display's own
+    int mapSize = 1024;
+    std::string warp = "chord";
+    double mmPerMetre = 10.0;
+    bool isWritingBeforeAfter = false;
+    // Path
+    std::string pathFile;
+    double pathStepMm = 2.0;
+    double smoothingMm = 8.0;
+    bool isRetrograde = false;
+    int maxFrames = 0;  // 0: all
+    int polyp = -1;     // >= 0: one pose viewing this polyp of the path's ground truth
+    double polypElevationDeg = 60.0;  // ... seen ahead at this elevation (on the IC's ceiling)
+    // Rendering
+    std::string mode = "iso";
+    std::string filter = "trilinear";
+    bool isSkippingOff = false;
+    engine::RenderSettings settings;
+    double lightHalfDistanceMm = -1.0;  // < 0: none for a pinhole view, 25 mm for a display
+    std::string device;
+};
+
+/// Applies the string options (mode, filter, skipping, light) to options.settings; throws
+/// std::invalid_argument for an unknown transfer function.
+engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isDisplay);
+
+/// Renders a display (walls x eyes x poses) into a folder; see app/frame_sequence.h.
+void runDisplayRender(const RenderOptions& options);
+
+}  // namespace app

@@ -1,0 +1,135 @@
+// `cvc render --display`: the frame folders it writes, --resume rendering only what is
+// missing, --force needed to replace, and refusals with one clear line.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/run_program.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::runCvc;
+
+fs::path tmp(const std::string& name) { return fs::path(CVC_TEST_TMP_DIR) / name; }
+
+const char* kWalls[] = {"front", "back", "left", "right", "floor"};
+
+/// A small tube phantom, a 3-point path along its axis (3 frames at 5 mm) and a display of
+/// tiny walls, so a sequence renders in a moment.
+struct SmallScene {
+    SmallScene() {
+        fs::create_directories(tmp("display"));
+        volume = tmp("display/tube.nrrd");
+        EXPECT_EQ(runCvc("phantom --kind tube --size 32 --force -o " + volume.string()).exitCode, 0);
+        path = tmp("display/path.txt");
+        std::ofstream(path) << "15.5 15.5 5\n15.5 15.5 10\n15.5 15.5 15\n";
+        display = tmp("display/tiny.json");
+        std::ofstream(display) << R"({"name": "tiny", "box_size_m": [2.4, 2.4, 2.4], "map": "none", "walls": [
+            {"name": "front", "width": 32, "height": 24}, {"name": "back", "width": 32, "height": 24},
+            {"name": "left", "width": 32, "height": 24}, {"name": "right", "width": 32, "height": 24},
+            {"name": "floor", "width": 32, "height": 32}]})";
+    }
+    std::string command(const fs::path& out, const std::string& extra = "") const {
+        return "render " + volume.string() + " --display " + display.string() + " --path " + path.string() +
+               " --path-step 5 --iso -480 --scale 5 -o " + out.string() + " " + extra;
+    }
+    fs::path volume, path, display;
+};
+
+TEST(DisplayRender, WritesEveryWallForBothEyesAndASheetPerFrame) {
+    const SmallScene scene;
+    const fs::path out = tmp("display/frames_layout");
+    fs::remove_all(out);
+    const auto run = runCvc(scene.command(out));
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_NE(run.out.find("rendered 3 frame(s) (30 wall images)"), std::string::npos) << run.out;
+    EXPECT_TRUE(fs::exists(out / "render.json"));
+    for (const char* frame : {"frame_0000", "frame_0001", "frame_0002"}) {
+        EXPECT_TRUE(fs::exists(out / frame / "sheet.png")) << frame;
+        for (const char* eye : {"left", "right"}) {
+            for (const char* wall : kWalls) EXPECT_TRUE(fs::exists(out / frame / eye / (std::string(wall) + ".png")));
+        }
+    }
+    EXPECT_FALSE(fs::exists(out / "frame_0003"));
+    // Progress goes to stderr, one line per frame when it is not a terminal.
+    EXPECT_NE(run.err.find("frames 3/3"), std::string::npos) << run.err;
+}
+
+TEST(DisplayRender, ResumeRendersOnlyWhatIsMissingAndForceIsNeededToReplace) {
+    const SmallScene scene;
+    const fs::path out = tmp("display/frames_resume");
+    fs::remove_all(out);
+    ASSERT_EQ(runCvc(scene.command(out)).exitCode, 0);
+    const auto keptTime = fs::last_write_time(out / "frame_0000" / "sheet.png");
+
+    // Without --resume or --force the folder is left alone.
+    const auto refused = runCvc(scene.command(out));
+    EXPECT_NE(refused.exitCode, 0);
+    EXPECT_EQ(testing_support::lineCount(refused.err), 1) << refused.err;
+    EXPECT_NE(refused.err.find("pass --resume to continue it or --force to replace it"), std::string::npos);
+    EXPECT_EQ(fs::last_write_time(out / "frame_0000" / "sheet.png"), keptTime);
+
+    // A frame lost (or never finished): --resume renders that one alone.
+    fs::remove_all(out / "frame_0001");
+    fs::create_directories(out / ".frame_0001.partial" / "left");  // what an interrupted run leaves
+    const auto resumed = runCvc(scene.command(out, "--resume"));
+    ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
+    EXPECT_NE(resumed.out.find("rendered 1 frame(s)"), std::string::npos) << resumed.out;
+    EXPECT_NE(resumed.out.find("kept 2 finished frame(s)"), std::string::npos) << resumed.out;
+    EXPECT_TRUE(fs::exists(out / "frame_0001" / "right" / "floor.png"));
+    EXPECT_FALSE(fs::exists(out / ".frame_0001.partial"));
+    EXPECT_EQ(fs::last_write_time(out / "frame_0000" / "sheet.png"), keptTime);
+
+    // Resuming with other settings would mix two renders: refused.
+    const auto changed = runCvc(scene.command(out, "--resume --light-distance 10"));
+    EXPECT_NE(changed.exitCode, 0);
+    EXPECT_NE(changed.err.find("other inputs or settings"), std::string::npos) << changed.err;
+
+    // --force replaces our output and leaves the user's own files alone.
+    std::ofstream(out / "notes.txt") << "mine";
+    const auto forced = runCvc(scene.command(out, "--force"));
+    ASSERT_EQ(forced.exitCode, 0) << forced.err;
+    EXPECT_NE(forced.out.find("rendered 3 frame(s)"), std::string::npos) << forced.out;
+    EXPECT_TRUE(fs::exists(out / "notes.txt"));
+}
+
+TEST(DisplayRender, ConformalDisplayWritesTheBeforeAfterSheet) {
+    const SmallScene scene;
+    const fs::path display = tmp("display/tiny_ic.json");
+    std::ofstream(display) << R"({"name": "tiny-ic", "box_size_m": [2.95, 2.21, 2.95], "map": "conformal", "walls": [
+        {"name": "front", "width": 40, "height": 30}, {"name": "back", "width": 40, "height": 30},
+        {"name": "left", "width": 40, "height": 30}, {"name": "right", "width": 40, "height": 30},
+        {"name": "floor", "width": 30, "height": 30}]})";
+    const fs::path out = tmp("display/frames_conformal");
+    fs::remove_all(out);
+    const auto run = runCvc("render " + scene.volume.string() + " --display " + display.string() +
+                                " --position 15.5,15.5,8 --look-at 15.5,15.5,20 --up 0,1,0 --map-size 32 --before-after "
+                                "--force -o " + out.string(),
+                            "CVC_CACHE_DIR=" + tmp("display/cache").string());
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_TRUE(fs::exists(out / "frame_0000" / "before_after.png"));
+    EXPECT_TRUE(fs::exists(out / "frame_0000" / "left" / "front.png"));
+    EXPECT_NE(run.err.find("map: conformal, 32^2 per face"), std::string::npos) << run.err;
+}
+
+TEST(DisplayRender, RefusesWhatItCannotDo) {
+    const SmallScene scene;
+    const auto cave4 = runCvc("render " + scene.volume.string() + " --display cave4 --position 15,15,8 --look-at 15,15,20 -o " +
+                              tmp("display/cave4").string());
+    EXPECT_NE(cave4.exitCode, 0);
+    EXPECT_EQ(testing_support::lineCount(cave4.err), 1) << cave4.err;
+    EXPECT_NE(cave4.err.find("not yet supported"), std::string::npos) << cave4.err;
+
+    const auto noPose = runCvc("render " + scene.volume.string() + " --display cave6 -o " + tmp("display/nopose").string());
+    EXPECT_NE(noPose.exitCode, 0);
+    EXPECT_NE(noPose.err.find("needs --path, or --position and --look-at"), std::string::npos) << noPose.err;
+
+    const auto badDisplay = runCvc("render " + scene.volume.string() + " --display no-such-display --path " +
+                                   scene.path.string() + " -o " + tmp("display/bad").string());
+    EXPECT_NE(badDisplay.exitCode, 0);
+    EXPECT_NE(badDisplay.err.find("neither a preset"), std::string::npos) << badDisplay.err;
+}
+
+}  // namespace

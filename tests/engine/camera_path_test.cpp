@@ -1,0 +1,137 @@
+// Camera poses along a centreline: positions on the path at the asked spacing, views along
+// its tangent, a rotation-minimizing up, both directions, and the files paths come from.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "engine/camera_path.h"
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A helix of radius 20 mm and pitch 30 mm per turn, sampled every 0.1 radian.
+std::vector<glm::dvec3> helix(int samples = 400) {
+    std::vector<glm::dvec3> points;
+    for (int i = 0; i < samples; ++i) {
+        const double a = 0.1 * i;
+        points.emplace_back(50.0 + 20.0 * std::cos(a), 50.0 + 20.0 * std::sin(a), 10.0 + 30.0 * a / (2.0 * kPi));
+    }
+    return points;
+}
+
+glm::dvec3 helixTangent(double angle) {
+    return glm::normalize(glm::dvec3(-20.0 * std::sin(angle), 20.0 * std::cos(angle), 30.0 / (2.0 * kPi)));
+}
+
+/// Distance from p to the nearest segment of the polyline.
+double distanceToPolyline(const std::vector<glm::dvec3>& line, const glm::dvec3& p) {
+    double best = 1e300;
+    for (std::size_t i = 1; i < line.size(); ++i) {
+        const glm::dvec3 a = line[i - 1], b = line[i];
+        const double f = std::clamp(glm::dot(p - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
+        best = std::min(best, glm::length(p - (a + f * (b - a))));
+    }
+    return best;
+}
+
+TEST(CameraPath, PosesFollowTheCentreline) {
+    const auto line = helix();
+    engine::PathSettings settings;
+    settings.stepMm = 2.0;
+    settings.smoothingMm = 2.0;
+    const auto poses = engine::posesAlong(line, settings);
+    ASSERT_GT(poses.size(), 100u);
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+        const auto& pose = poses[i];
+        EXPECT_LT(distanceToPolyline(line, pose.positionMm), 1e-9);
+        EXPECT_NEAR(glm::length(pose.forward), 1.0, 1e-12);
+        EXPECT_NEAR(glm::length(pose.up), 1.0, 1e-12);
+        EXPECT_NEAR(glm::dot(pose.forward, pose.up), 0.0, 1e-9);
+        if (i > 0) {
+            // Consecutive poses are one step apart along the arc (the chord is a bit shorter).
+            const double chord = glm::length(pose.positionMm - poses[i - 1].positionMm);
+            EXPECT_GT(chord, 1.99);
+            EXPECT_LE(chord, 2.0 + 1e-9);
+            EXPECT_GT(glm::dot(pose.up, poses[i - 1].up), 0.99) << "up must not flip or spin at pose " << i;
+        }
+        // Away from the ends, the view looks along the helix's analytic tangent.
+        if (i > 5 && i + 5 < poses.size()) {
+            const double angle = (pose.positionMm.z - 10.0) * 2.0 * kPi / 30.0;  // z rises linearly with the angle
+            EXPECT_GT(glm::dot(pose.forward, helixTangent(angle)), 0.999) << "pose " << i;
+        }
+    }
+}
+
+TEST(CameraPath, AntegradeAndRetrogradeAreMirrorImages) {
+    // A polyline whose length is a whole number of steps: both directions visit the same points.
+    const std::vector<glm::dvec3> line = {{0, 0, 0}, {30, 0, 0}, {30, 40, 0}, {30, 40, 30}};  // 100 mm
+    engine::PathSettings settings;
+    settings.stepMm = 5.0;
+    settings.smoothingMm = 4.0;
+    const auto forward = engine::posesAlong(line, settings);
+    settings.direction = engine::Direction::Retrograde;
+    const auto backward = engine::posesAlong(line, settings);
+    ASSERT_EQ(forward.size(), 21u);
+    ASSERT_EQ(backward.size(), forward.size());
+    for (std::size_t i = 0; i < forward.size(); ++i) {
+        const auto& a = forward[i];
+        const auto& b = backward[forward.size() - 1 - i];
+        EXPECT_LT(glm::length(a.positionMm - b.positionMm), 1e-9) << i;
+        EXPECT_LT(glm::length(a.forward + b.forward), 1e-9) << i;  // opposite views at the same place
+    }
+}
+
+TEST(CameraPath, PoseViewingAPointSeesItAtTheAskedElevation) {
+    const std::vector<glm::dvec3> line = {{0, 0, 0}, {0, 0, 100}};
+    const glm::dvec3 polyp(11.0, 0.0, 50.0);  // on the wall of a straight 22 mm colon
+    engine::PathSettings settings;
+    for (double elevation : {90.0, 60.0, 45.0}) {
+        const auto pose = engine::poseViewing(line, polyp, elevation, settings);
+        const glm::dvec3 toPolyp = glm::normalize(polyp - pose.positionMm);
+        const double seen = glm::degrees(std::asin(glm::dot(toPolyp, pose.up)));
+        EXPECT_NEAR(seen, elevation, 0.5);
+        EXPECT_GE(glm::dot(toPolyp, pose.forward), -1e-9);  // ahead, never behind
+        EXPECT_NEAR(glm::dot(pose.forward, pose.up), 0.0, 1e-9);
+        EXPECT_NEAR(glm::dot(pose.forward, glm::dvec3(0, 0, 1)), 1.0, 1e-9);  // still looking along the path
+    }
+    EXPECT_THROW(engine::poseViewing(line, polyp, 0.0, settings), std::invalid_argument);
+}
+
+TEST(CameraPath, ReadsTextAndPhantomJsonAndRejectsBadFiles) {
+    const auto dir = std::filesystem::path(CVC_TEST_TMP_DIR);
+    const auto text = dir / "path.txt";
+    std::ofstream(text) << "# x y z\n0 0 0\n10, 0, 0\n\n10 10 0  # corner\n";
+    EXPECT_EQ(engine::readPolyline(text.string()).size(), 3u);
+
+    const auto json = dir / "truth.json";
+    std::ofstream(json) << R"({"centreline_mm": [[0,0,0],[0,0,5],[0,5,5]], "polyps": [{"centre_mm": [1,2,3]}]})";
+    EXPECT_EQ(engine::readPolyline(json.string()).size(), 3u);
+    ASSERT_EQ(engine::readPolypCentres(json.string()).size(), 1u);
+    EXPECT_EQ(engine::readPolypCentres(json.string())[0], glm::dvec3(1, 2, 3));
+
+    const auto bad = dir / "bad_path.txt";
+    std::ofstream(bad) << "0 0 0\n1 2\n";
+    try {
+        engine::readPolyline(bad.string());
+        FAIL() << "a line of two numbers must be rejected";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("bad_path.txt:2"), std::string::npos) << e.what();
+    }
+    const auto single = dir / "single_point.txt";
+    std::ofstream(single) << "1 1 1\n1 1 1\n";
+    EXPECT_THROW(engine::readPolyline(single.string()), std::runtime_error);
+    EXPECT_THROW(engine::readPolyline((dir / "missing.txt").string()), std::runtime_error);
+    const auto nan = dir / "nan_path.txt";
+    std::ofstream(nan) << "0 0 0\nnan 1 1\n";
+    EXPECT_THROW(engine::readPolyline(nan.string()), std::runtime_error);
+
+    engine::PathSettings tooMany;
+    tooMany.stepMm = 1e-3;
+    tooMany.maxFrames = 1000;
+    EXPECT_THROW(engine::posesAlong(helix(), tooMany), std::invalid_argument);
+}
+
+}  // namespace
