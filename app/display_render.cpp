@@ -70,7 +70,8 @@ std::string manifestOf(const RenderOptions& options, const engine::Display& disp
     manifest["settings"] = {{"mode", options.mode},          {"iso_hu", s.isoHu},
                             {"transfer_function", s.transferFunction}, {"step_voxels", s.stepVoxels},
                             {"refinement_steps", s.refinementSteps}, {"filter", options.filter},
-                            {"skipping", s.isSkipping},       {"adaptive", s.isAdaptive},
+                            {"skipping", s.isSkipping},       {"skip_cell_voxels", s.skipCellVoxels},
+                            {"adaptive", s.isAdaptive},       {"early_termination", s.earlyTerminationOpacity},
                             {"jitter", s.isJittered},          {"jitter_seed", s.jitterSeed},
                             {"light_half_distance_mm", s.lightHalfDistanceMm}};
     nlohmann::json posesJson = nlohmann::json::array();

@@ -100,6 +100,9 @@ engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isD
     settings.filter = options.filter == "tricubic" ? engine::VolumeFilter::Tricubic : engine::VolumeFilter::Trilinear;
     settings.isSkipping = !options.isSkippingOff;
     settings.lightHalfDistanceMm = options.lightHalfDistanceMm >= 0.0 ? options.lightHalfDistanceMm : isDisplay ? 25.0 : 0.0;
+    // Display frames come by the dozen and their hits are refined by bisection: a voxel-long
+    // step halves their time; a still keeps the finer default.
+    settings.stepVoxels = options.stepVoxels > 0.0 ? options.stepVoxels : isDisplay ? 1.0 : 0.5;
     if (settings.mode == engine::RenderMode::Composite) {
         engine::transferFunctionPreset(settings.transferFunction);  // a typo fails before any loading
     }
@@ -168,12 +171,18 @@ void addRenderCommand(CLI::App& program) {
     command->add_option("--iso", s.isoHu, "Iso value in HU")->capture_default_str()->group(rendering);
     command->add_option("--tf", s.transferFunction, "Transfer function preset: colon-wall, soft-tissue, bone")
         ->capture_default_str()->group(rendering);
-    command->add_option("--step", s.stepVoxels, "March step in voxels")->capture_default_str()->group(rendering);
+    command->add_option("--step", options->stepVoxels,
+                        "March step in voxels (default: 0.5 for a pinhole view, 1 for display frames)")->group(rendering);
     command->add_option("--refine", s.refinementSteps, "Bisection steps refining each iso hit (0: none)")
         ->capture_default_str()->group(rendering);
     command->add_option("--filter", options->filter, "trilinear (fast) or tricubic (B-spline, for stills)")
         ->check(CLI::IsMember({"trilinear", "tricubic"}))->capture_default_str()->group(rendering);
     command->add_flag("--no-skip", options->isSkippingOff, "Turn off empty-space skipping")->group(rendering);
+    command->add_option("--skip-cell", s.skipCellVoxels, "Edge in voxels of the empty-space map's cells (8: the 8^3 bricks)")
+        ->check(CLI::Range(1, 64))->capture_default_str()->group(rendering);
+    command->add_option("--early-termination", s.earlyTerminationOpacity,
+                        "Composite mode: stop a ray once its opacity reaches this")
+        ->check(CLI::Range(0.01, 1.0))->capture_default_str()->group(rendering);
     command->add_flag("--adaptive", s.isAdaptive, "Lengthen steps where a pixel covers more than a voxel")
         ->group(rendering);
     command->add_option("--jitter", s.jitterSeed, "Jitter ray starts with this seed (same seed, same image)")

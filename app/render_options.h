@@ -45,6 +45,7 @@ struct RenderOptions {
     bool isSkippingOff = false;
     engine::RenderSettings settings;
     double lightHalfDistanceMm = -1.0;  // < 0: none for a pinhole view, 25 mm for a display
+    double stepVoxels = -1.0;           // < 0: 0.5 for a pinhole still, 1.0 for display frames
     std::string device;
 };
 

@@ -138,9 +138,14 @@ const SampledTexture& Raycaster::skipDistanceFor(const RenderSettings& settings)
             mFinerCells.emplace(cell, volumes::buildBrickMinMax(*mVolumeData, cell));
         }
         const volumes::BrickMinMax& cells = cell == volumes::kBrickSize ? *mBricks : mFinerCells.at(cell);
+        // A cell is occupied when any sample in it could stop the ray: for an iso-surface, when
+        // its maximum reaches the iso value. Cells wholly inside tissue count too: a step longer
+        // than the thin layer of cells that straddle the iso value can land in one, and the
+        // unskipped ray would stop there.
+        const double iso = settings.isoHu;
         const std::vector<uint8_t> occupied =
             settings.mode == RenderMode::IsoSurface
-                ? volumes::bricksForIsoValue(cells, settings.isoHu)
+                ? volumes::bricksForPredicate(cells, [iso](int16_t, int16_t maxHu) { return maxHu >= iso; })
                 : volumes::bricksForOpacity(cells, opacityTableOf(mTransferTables.at(settings.transferFunction)));
         found = mSkipDistances
                     .emplace(key.str(), makeSkipDistanceTexture(*mContext, cells.brickDims,

@@ -1,5 +1,5 @@
-/// @brief The small textures the ray caster samples besides the volume: the brick occupancy
-/// of empty-space skipping, the transfer-function table and the conformal map's cube map.
+/// @brief The small textures the ray caster samples besides the volume: the empty-space
+/// distance map, the transfer-function table and the conformal map's cube map.
 #pragma once
 
 #include <cstdint>

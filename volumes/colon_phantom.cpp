@@ -12,6 +12,10 @@
 namespace volumes {
 namespace {
 
+/// Free space a pedunculated polyp's head leaves around the centreline (mm).
+constexpr double kCentrelineClearanceMm = 1.5;
+
+
 constexpr double kPi = 3.14159265358979323846;
 /// Centreline vertices are this far apart along the curve.
 constexpr double kCentrelineStepMm = 1.0;
@@ -168,10 +172,10 @@ double gaussianAt(std::uint64_t seed, std::uint64_t n) {
 
 std::vector<PolypSpec> ColonPhantomSpec::defaultPolyps() {
     return {{PolypKind::Sessile, 6.0, 0.15, 30.0, 0.0},
-            {PolypKind::Pedunculated, 10.0, 0.33, 150.0, 4.0},
+            {PolypKind::Pedunculated, 8.0, 0.33, 150.0, 1.5},
             {PolypKind::Sessile, 3.0, 0.50, 270.0, 0.0},
             {PolypKind::Sessile, 12.0, 0.68, 90.0, 0.0},
-            {PolypKind::Pedunculated, 8.0, 0.85, 210.0, 4.0}};
+            {PolypKind::Pedunculated, 6.0, 0.85, 210.0, 3.0}};
 }
 
 ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
@@ -229,10 +233,12 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
         if (p.kind == PolypKind::Sessile) {
             truth.centreMm = truth.baseMm;  // half the sphere stands in the lumen: a hemisphere
         } else {
-            if (!(p.stalkLengthMm >= 0.5) || p.stalkLengthMm + p.diameterMm > 2.0 * spec.lumenRadiusMm - 2.0) {
+            // The head must stop short of the centreline, so a fly-through along it stays in air.
+            if (!(p.stalkLengthMm >= 0.5) || p.stalkLengthMm + p.diameterMm > spec.lumenRadiusMm - kCentrelineClearanceMm) {
                 fail("a pedunculated polyp of " + std::to_string(p.diameterMm) + " mm on a " +
-                     std::to_string(p.stalkLengthMm) + " mm stalk does not fit a lumen " +
-                     std::to_string(2.0 * spec.lumenRadiusMm) + " mm across");
+                     std::to_string(p.stalkLengthMm) + " mm stalk would reach the centreline of a lumen " +
+                     std::to_string(2.0 * spec.lumenRadiusMm) + " mm across (stalk + diameter must be at most " +
+                     std::to_string(spec.lumenRadiusMm - kCentrelineClearanceMm) + " mm)");
             }
             truth.stalkLengthMm = p.stalkLengthMm;
             truth.centreMm = truth.baseMm + (p.stalkLengthMm + truth.radiusMm) * truth.baseNormal;

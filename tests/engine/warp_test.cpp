@@ -14,10 +14,13 @@
 #include "engine/raycaster.h"
 #include "engine/volume_texture.h"
 #include "tests/support/gpu_test_fixture.h"
+#include "tests/support/image_compare.h"
 #include "volumes/analytic_phantom.h"
 #include "volumes/brick_minmax.h"
 
 namespace {
+
+using testing_support::colorDifference;
 
 using engine::WallName;
 
@@ -86,16 +89,6 @@ protected:
     static inline std::unique_ptr<conformal::CubeMap> sLinear;
 };
 
-std::pair<int, double> colorDifference(const engine::RenderedImage& a, const engine::RenderedImage& b) {
-    int worst = 0;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < a.rgba.size(); ++i) {
-        const int d = std::abs(static_cast<int>(a.rgba[i]) - static_cast<int>(b.rgba[i]));
-        worst = std::max(worst, d);
-        sum += d;
-    }
-    return {worst, sum / static_cast<double>(a.rgba.size())};
-}
 
 TEST_F(WarpedWalls, SixWallDisplayEqualsPinholeCameras) {
     SphericalRoom room(context());
