@@ -346,12 +346,18 @@ def plot_pareto(scene, sweeps, vtk, path):
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.2))
     for ax, mode in zip(axes, ("iso", "composite")):
         points = sweeps[mode]["points"]
+        front = pareto(points)
+        on_front = {id(p) for p in front}
         for p in points:
             colour = "tab:red" if not p["skip"] else ("tab:green" if p["adaptive"] else "tab:blue")
             marker = "s" if p["filter"] == "tricubic" else "o"
             ax.scatter(p["ms"], p["rmse"], c=colour, marker=marker, s=36, zorder=3)
-            ax.annotate(p["label"], (p["ms"], p["rmse"]), fontsize=6.5, xytext=(3, 3), textcoords="offset points")
-        front = pareto(points)
+            # Label the front in full; the points behind it are many and close, so label them faintly.
+            if id(p) in on_front:
+                ax.annotate(p["label"], (p["ms"], p["rmse"]), fontsize=7, xytext=(4, 4), textcoords="offset points")
+            else:
+                ax.annotate(p["label"], (p["ms"], p["rmse"]), fontsize=5, xytext=(3, -8), textcoords="offset points",
+                            color="0.45")
         ax.plot([p["ms"] for p in front], [p["rmse"] for p in front], "k--", lw=1, zorder=2, label="Pareto front")
         if vtk and mode in vtk:
             v = vtk[mode]["points"]
