@@ -282,7 +282,13 @@ RicciFlowResult flowToTargetCurvature(const TriangleMesh& mesh,
         double fraction = 1.0;
         constexpr int kMaxHalvings = 60;
         int halvings = 0;
+        bool isStepFound = true;
         for (;; ++halvings) {
+            if (halvings > kMaxHalvings && isStaleEnough) {
+                // A reused factorisation may point the wrong way: refactorise here and retry.
+                isStepFound = false;
+                break;
+            }
             if (halvings > kMaxHalvings) {
                 std::ostringstream message;
                 message << "Ricci flow: step control failed at Newton step " << result.iterations
@@ -297,8 +303,10 @@ RicciFlowResult flowToTargetCurvature(const TriangleMesh& mesh,
             if (lengthsFromLogScale(mesh, data, trialU, trialLengths, trialAngles)) {
                 std::vector<double> savedResidual = residual;
                 const double trialMax = updateResidual(trialAngles);
-                if (std::isfinite(trialMax) &&
-                    (normOf(residual) < residualNorm || trialMax < settings.tolerance)) {
+                // Near round-off the 2-norm of a million residuals stops falling before the
+                // largest one does, so a smaller maximum counts as progress too.
+                if (std::isfinite(trialMax) && (normOf(residual) < residualNorm || trialMax < maxError ||
+                                                trialMax < settings.tolerance)) {
                     maxError = trialMax;
                     break;
                 }
@@ -307,6 +315,10 @@ RicciFlowResult flowToTargetCurvature(const TriangleMesh& mesh,
             fraction *= 0.5;
         }
         result.stepHalvings += halvings;
+        if (!isStepFound) {
+            mustRefactorise = true;
+            continue;
+        }
         mustRefactorise = halvings > 0 || maxError > 0.1 * previousMax;
         previousMax = maxError;
         u.swap(trialU);
