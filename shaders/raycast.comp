@@ -80,7 +80,8 @@ Segment segmentForPixel(uvec2 pixel) {
     vec3 c = u.mapCentreMm.xyz;
     vec3 farCorner = max(abs(u.boxMinMm.xyz - c), abs(u.boxMaxMm.xyz - c));
     float tFar = length(farCorner) + length(eye - c) + tNear;
-    s.localScale = sceneFromDisplay(normalize(wallPoint - c)).w;
+    // Only the adaptive step reads the map's local scale: other variants save the fetch.
+    if (kAdaptive) s.localScale = sceneFromDisplay(normalize(wallPoint - c)).w;
     if (kWarp == CVC_WARP_EXACT) {
         s.origin = eye;
         s.dir = dir;
