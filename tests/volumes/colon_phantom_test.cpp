@@ -129,6 +129,8 @@ TEST(ColonPhantom, RefusesImpossibleSpecs) {
     spec.grid = {{96, 96, 96}, glm::dvec3(1.6)};
     spec.polyps = {{PolypKind::Pedunculated, 15.0, 0.5, 0.0, 8.0}};  // 23 mm tall in a 22 mm lumen
     EXPECT_THROW(makeColonPhantom(spec), VolumeError);
+    spec.polyps = {{PolypKind::Pedunculated, 8.0, 0.5, 0.0, 2.0}};  // 10 mm: would reach within 1 mm of the centreline
+    EXPECT_THROW(makeColonPhantom(spec), VolumeError);
     spec.polyps = {{PolypKind::Sessile, 20.0, 0.5, 0.0, 0.0}};
     EXPECT_THROW(makeColonPhantom(spec), VolumeError);
     for (const char* bad : {"", "flat:6:0.5:0", "sessile:6:0.5", "sessile:2:0.5:0", "sessile:6:1.5:0",
@@ -147,7 +149,7 @@ TEST(CvcPhantom, WritesColonVolumeAndGroundTruth) {
     const std::string folder = testing::scratchFolder("cvc_phantom");
     const auto run = testing_support::runCvc(
         "phantom --size 112 --spacing 1.4 --seed 3 --polyp sessile:7:0.3:0 "
-        "--polyp pedunculated:9:0.7:180:4 -o '" +
+        "--polyp pedunculated:6:0.7:180:3 -o '" +
         folder + "/colon.vdb'");
     ASSERT_EQ(run.exitCode, 0) << run.err;
     const LoadedVolume loaded = loadVolumeWithBricks(folder + "/colon.vdb");
