@@ -58,6 +58,22 @@ std::string unusableReason(const vk::raii::PhysicalDevice& device) {
     if (!(colorFormat.optimalTilingFeatures & vk::FormatFeatureFlagBits::eStorageImage)) {
         return "R8G8B8A8_UNORM storage images are not supported";
     }
+    // The cube map and the transfer function are sampled with linear filtering, the hit image
+    // is written as a storage image, the empty-space map is read with texelFetch.
+    if ((device.getFormatProperties(vk::Format::eR32G32B32A32Sfloat).optimalTilingFeatures & needed) != needed) {
+        return "R32G32B32A32_SFLOAT images cannot be sampled with linear filtering";
+    }
+    if (!(device.getFormatProperties(vk::Format::eR32G32B32A32Sfloat).optimalTilingFeatures &
+          vk::FormatFeatureFlagBits::eStorageImage)) {
+        return "R32G32B32A32_SFLOAT storage images are not supported";
+    }
+    if ((device.getFormatProperties(vk::Format::eR16G16B16A16Unorm).optimalTilingFeatures & needed) != needed) {
+        return "R16G16B16A16_UNORM images cannot be sampled with linear filtering";
+    }
+    if (!(device.getFormatProperties(vk::Format::eR8Uint).optimalTilingFeatures &
+          vk::FormatFeatureFlagBits::eSampledImage)) {
+        return "R8_UINT images cannot be sampled";
+    }
     return {};
 }
 
