@@ -20,24 +20,35 @@ constexpr double kMinSegmentMm = 1e-6;
 /// A path file larger than this is not a centreline.
 constexpr std::size_t kMaxPoints = 10'000'000;
 
-std::vector<glm::dvec3> fromJson(const std::string& path, std::istream& in) {
-    nlohmann::json document;
+/// The JSON document in `in`, or an error naming `path`.
+nlohmann::json parseJson(const std::string& path, std::istream& in) {
     try {
-        document = nlohmann::json::parse(in);
+        return nlohmann::json::parse(in);
     } catch (const nlohmann::json::exception& e) {
         throw std::runtime_error(path + ": not valid JSON (" + e.what() + ")");
     }
+}
+
+bool isVec3(const nlohmann::json& value) {
+    return value.is_array() && value.size() == 3 && value[0].is_number() && value[1].is_number() && value[2].is_number();
+}
+
+glm::dvec3 vec3Of(const nlohmann::json& value) {
+    return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
+}
+
+std::vector<glm::dvec3> fromJson(const std::string& path, std::istream& in) {
+    const nlohmann::json document = parseJson(path, in);
     if (!document.is_object() || !document.contains("centreline_mm") || !document["centreline_mm"].is_array()) {
         throw std::runtime_error(path + ": no \"centreline_mm\" array (expected a phantom's ground truth)");
     }
     std::vector<glm::dvec3> points;
     for (const auto& point : document["centreline_mm"]) {
-        if (!point.is_array() || point.size() != 3 || !point[0].is_number() || !point[1].is_number() ||
-            !point[2].is_number()) {
+        if (!isVec3(point)) {
             throw std::runtime_error(path + ": centreline point " + std::to_string(points.size()) +
                                      " is not three numbers");
         }
-        points.emplace_back(point[0].get<double>(), point[1].get<double>(), point[2].get<double>());
+        points.push_back(vec3Of(point));
         if (points.size() > kMaxPoints) throw std::runtime_error(path + ": more than 10 million points");
     }
     return points;
@@ -196,22 +207,16 @@ CameraPose poseViewing(const std::vector<glm::dvec3>& polyline, const glm::dvec3
 std::vector<glm::dvec3> readPolypCentres(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw std::runtime_error(path + ": cannot open ground truth");
-    nlohmann::json document;
-    try {
-        document = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-        throw std::runtime_error(path + ": not valid JSON (" + e.what() + ")");
-    }
+    const nlohmann::json document = parseJson(path, in);
     if (!document.is_object() || !document.contains("polyps") || !document["polyps"].is_array()) {
         throw std::runtime_error(path + ": no \"polyps\" list (expected a phantom's ground truth)");
     }
     std::vector<glm::dvec3> centres;
     for (const auto& polyp : document["polyps"]) {
-        const auto& c = polyp.is_object() && polyp.contains("centre_mm") ? polyp["centre_mm"] : nlohmann::json();
-        if (!c.is_array() || c.size() != 3 || !c[0].is_number() || !c[1].is_number() || !c[2].is_number()) {
+        if (!polyp.is_object() || !polyp.contains("centre_mm") || !isVec3(polyp["centre_mm"])) {
             throw std::runtime_error(path + ": polyp " + std::to_string(centres.size()) + " has no centre_mm");
         }
-        centres.emplace_back(c[0].get<double>(), c[1].get<double>(), c[2].get<double>());
+        centres.push_back(vec3Of(polyp["centre_mm"]));
     }
     return centres;
 }
