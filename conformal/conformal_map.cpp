@@ -35,6 +35,19 @@ std::vector<Complex> diskOfSphere(const SphereMesh& sphere, const RicciFlowSetti
     return disk;
 }
 
+/// The inverse of a Riemann map at disk point `zeta`: located in the disk mesh, then the smooth
+/// interpolant or, without it, the barycentric blend of the triangle's directions. NaN outside.
+glm::dvec3 sphereFromDisk(const DiskLocator& locator, const PlaneToSphereInterpolant& inverse, const TriangleMesh& mesh,
+                          bool isSmooth, Complex zeta) {
+    const DiskLocation location = locator.locate(zeta);
+    if (location.triangle < 0) return glm::dvec3(std::numeric_limits<double>::quiet_NaN());
+    if (isSmooth) return inverse.evaluate(location.triangle, location.barycentric, zeta);
+    const auto& tri = mesh.triangles[location.triangle];
+    const auto& p = mesh.positions;
+    return glm::normalize(location.barycentric.x * p[tri[0]] + location.barycentric.y * p[tri[1]] +
+                          location.barycentric.z * p[tri[2]]);
+}
+
 }  // namespace
 
 ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(settings) {
@@ -152,23 +165,11 @@ Complex ConformalMap::diskFromScene(const glm::dvec3& scene) const {
 }
 
 glm::dvec3 ConformalMap::sceneFromDisk(Complex zeta) const {
-    const DiskLocation location = mSceneLocator.locate(zeta);
-    if (location.triangle < 0) return glm::dvec3(std::numeric_limits<double>::quiet_NaN());
-    if (mIsSmooth) return mSceneInverse.evaluate(location.triangle, location.barycentric, zeta);
-    const auto& tri = mScene.mesh.triangles[location.triangle];
-    const auto& p = mScene.mesh.positions;
-    return glm::normalize(location.barycentric.x * p[tri[0]] + location.barycentric.y * p[tri[1]] +
-                          location.barycentric.z * p[tri[2]]);
+    return sphereFromDisk(mSceneLocator, mSceneInverse, mScene.mesh, mIsSmooth, zeta);
 }
 
 glm::dvec3 ConformalMap::displayFromDisk(Complex zeta) const {
-    const DiskLocation location = mDisplayLocator.locate(zeta);
-    if (location.triangle < 0) return glm::dvec3(std::numeric_limits<double>::quiet_NaN());
-    if (mIsSmooth) return mDisplayInverse.evaluate(location.triangle, location.barycentric, zeta);
-    const auto& tri = mDisplay.mesh.triangles[location.triangle];
-    const auto& p = mDisplay.mesh.positions;
-    return glm::normalize(location.barycentric.x * p[tri[0]] + location.barycentric.y * p[tri[1]] +
-                          location.barycentric.z * p[tri[2]]);
+    return sphereFromDisk(mDisplayLocator, mDisplayInverse, mDisplay.mesh, mIsSmooth, zeta);
 }
 
 glm::dvec3 ConformalMap::sceneFromDisplay(const glm::dvec3& display) const {
