@@ -1,5 +1,6 @@
-/// @brief `cvc bake`: compute the conformal map (or the linear baseline) of a CAVE and write it
-/// as a cube map the ray caster samples; bakes are cached by the hash of their inputs.
+/// @brief `cvc bake`: compute the conformal map (or the linear baseline) of a display's CAVE and
+/// write it as a cube map the ray caster samples (`cvc render --cube-map`); bakes are cached by
+/// the hash of their inputs.
 #include <chrono>
 #include <iomanip>
 #include <iostream>
@@ -12,6 +13,8 @@
 #include "app/commands.h"
 #include "app/option_parsing.h"
 #include "conformal/cube_map_baker.h"
+#include "engine/display/display_json.h"
+#include "engine/display/display_map.h"
 
 namespace app {
 namespace {
@@ -19,9 +22,10 @@ namespace {
 struct BakeOptions {
     std::string outPath;
     int size = 1024;
-    std::vector<double> boxSize = {2.95, 2.21, 2.95};  // the Immersive Cabin
-    std::vector<double> centre = {0.0, 0.0, 0.0};
-    std::string map = "conformal";
+    std::string display;          // empty: ic5, or a custom CAVE described by --box
+    std::vector<double> boxSize;  // empty: the display's
+    std::vector<double> centre;   // empty: the display's
+    std::string map;              // empty: the display's
     std::string metric = "vertex-scaling";
     int meshResolution = conformal::SphereMeshSettings{}.resolution;
     bool useCache = true;
@@ -30,15 +34,17 @@ struct BakeOptions {
 
 void runBake(const BakeOptions& options) {
     requireWritableOutput(options.outPath, options.force);
-    conformal::BakeSettings settings;
-    settings.size = options.size;
-    settings.box.size = vec3From(options.boxSize, "--box");
-    settings.box.mapCentre = vec3From(options.centre, "--centre");
-    settings.kind = conformal::mapKindFromName(options.map);
+    // The display says which box, centre and map; the options override them for a CAVE that has
+    // no display file. A --box alone describes such a CAVE, named so in the messages.
+    engine::Display display = engine::loadDisplay(options.display.empty() ? "ic5" : options.display);
+    if (options.display.empty() && !options.boxSize.empty()) display.name = "custom";
+    if (!options.boxSize.empty()) display.boxSizeM = vec3From(options.boxSize, "--box");
+    if (!options.centre.empty()) display.mapCentreM = vec3From(options.centre, "--centre");
+    if (!options.map.empty()) display.map = conformal::mapKindFromName(options.map);
+    conformal::BakeSettings settings = engine::bakeSettingsFor(display, options.size);
     settings.mesh.resolution = options.meshResolution;
     settings.flow.metric = options.metric == "circle-packing" ? conformal::DiscreteMetric::CirclePacking
                                                               : conformal::DiscreteMetric::VertexScaling;
-    conformal::validateCaveBox(settings.box);
 
     const auto start = std::chrono::steady_clock::now();
     conformal::BakeReport report;
@@ -47,8 +53,11 @@ void runBake(const BakeOptions& options) {
     conformal::saveCubeMap(cube, options.outPath);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    std::cout << "wrote " << conformal::mapKindName(settings.kind) << " cube map " << cube.size << "^2 x 6 for box "
-              << settings.box.size.x << " x " << settings.box.size.y << " x " << settings.box.size.z << " m to "
+    const glm::dvec3 box = settings.box.size;
+    const glm::dvec3 centre = settings.box.mapCentre;
+    std::cout << "wrote " << conformal::mapKindName(settings.kind) << " cube map " << cube.size
+              << "^2 x 6 for display '" << display.name << "', box " << box.x << " x " << box.y << " x " << box.z
+              << " m, map centre (" << centre.x << ", " << centre.y << ", " << centre.z << ") m, to "
               << options.outPath << " (input hash " << std::hex << std::setw(16) << std::setfill('0')
               << cube.inputHash << std::dec << std::setfill(' ') << "; ";
     if (report.wasLoadedFromCache) {
@@ -69,15 +78,20 @@ void addBakeCommand(CLI::App& program) {
     command->add_option("--size", options->size, "Texels along each face's edge")
         ->check(CLI::Range(2, 8192))
         ->capture_default_str();
-    command->add_option("--box", options->boxSize, "Box width (x), height (y), depth (z) in metres; the ceiling is missing")
-        ->expected(3)
-        ->capture_default_str();
-    command->add_option("--centre", options->centre, "Map centre in CAVE space (metres from the box centre)")
-        ->expected(3)
-        ->capture_default_str();
-    command->add_option("--map", options->map, "conformal (angle-preserving) or linear (the non-conformal baseline)")
-        ->check(CLI::IsMember({"conformal", "linear"}))
-        ->capture_default_str();
+    command->add_option("--display", options->display,
+                        "A preset (ic5) or a display JSON file: its box, map centre and map are baked (default: "
+                        "ic5; a display with all six walls has no map to bake)");
+    command->add_option("--box", options->boxSize,
+                        "Override the display's box: width (x), height (y), depth (z) in metres; the ceiling is "
+                        "missing (without --display: a custom CAVE)")
+        ->expected(3);
+    command->add_option("--centre", options->centre,
+                        "Override the display's map centre in CAVE space (metres from the box centre)")
+        ->expected(3);
+    command->add_option("--map", options->map,
+                        "Override the display's map: conformal (angle-preserving) or linear (the non-conformal "
+                        "baseline)")
+        ->check(CLI::IsMember({"conformal", "linear"}));
     command->add_option("--metric", options->metric, "Discrete conformal metric of the Ricci flow")
         ->check(CLI::IsMember({"vertex-scaling", "circle-packing"}))
         ->capture_default_str();

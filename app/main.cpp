@@ -6,7 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
-#include "app/frame_sequence.h"
+#include "engine/display/frame_sequence.h"
 
 int main(int argc, char** argv) {
     CLI::App program{"conformal-vc: virtual colonoscopy rendering for partially-immersive displays"};
@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
         program.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return program.exit(e);
-    } catch (const app::Interrupted&) {
+    } catch (const engine::SequenceCancelled&) {
         std::cerr << "cvc: interrupted; the finished frames are kept (continue with --resume)\n";
         return 130;
     } catch (const std::exception& e) {

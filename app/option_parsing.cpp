@@ -6,7 +6,7 @@
 
 #include <unistd.h>
 
-#include "engine/pinhole_camera.h"
+#include "engine/render/pinhole_camera.h"
 
 namespace app {
 

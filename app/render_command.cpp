@@ -11,14 +11,14 @@
 #include "app/commands.h"
 #include "app/option_parsing.h"
 #include "app/render_options.h"
-#include "engine/gpu_context.h"
-#include "engine/hit_image_writer.h"
-#include "engine/pinhole_camera.h"
-#include "engine/png_writer.h"
-#include "engine/raycaster.h"
-#include "engine/transfer_function.h"
-#include "engine/view_rays.h"
-#include "engine/volume_texture.h"
+#include "engine/core/gpu_context.h"
+#include "engine/output/hit_image_writer.h"
+#include "engine/render/pinhole_camera.h"
+#include "engine/output/png_writer.h"
+#include "engine/render/raycaster.h"
+#include "engine/render/transfer_function.h"
+#include "engine/render/view_rays.h"
+#include "engine/render/volume_texture.h"
 #include "volumes/load_volume.h"
 
 namespace app {
@@ -72,7 +72,7 @@ void runPinholeRender(const RenderOptions& options) {
     }
 
     const double totalS = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::cout << "rendered " << image.width << "x" << image.height << " on " << context.deviceName() << ": ";
+    std::cout << "rendered " << image.width << "x" << image.height << " on " << context.driverDescription() << ": ";
     if (image.deviceMs >= 0.0) std::cout << "ray casting " << image.deviceMs << " ms, ";
     std::cout << "total " << totalS << " s\nwrote " << options.outPath << '\n';
     if (!options.hitsPath.empty()) std::cout << "wrote " << options.hitsPath << '\n';
@@ -120,7 +120,10 @@ void addRenderCommand(CLI::App& program) {
     command->add_option("--raw", options->rawSpec, "Describe a headerless raw file, e.g. 512x512x451:int16:0.7x0.7x1.25");
     command->add_option("-o,--out", options->outPath,
                         "Output: a PNG file (pinhole view, default render.png) or a folder (--display, default frames)");
-    command->add_option("--hits", options->hitsPath, "Pinhole view: also write first-hit positions (volume mm) as .nrrd");
+    CLI::Option* hits = command->add_option(
+        "--hits", options->hitsPath,
+        "Also write first-hit positions (volume mm): a pinhole view to this .nrrd file; a display render (no "
+        "file name) to frame_NNNN/EYE/WALL_hits.nrrd beside each wall")->expected(0, 1);
     command->add_flag("--force", options->force, "Replace existing output");
     command->add_flag("--stats", options->isPrintingStats,
                       "Pinhole view: also print the volume fetches per ray and per second");
@@ -142,8 +145,12 @@ void addRenderCommand(CLI::App& program) {
     command->add_option("--display", options->display, "ic5, cave6, cave4 or a display JSON file")->group(display);
     command->add_option("--map", options->map, "Override the display's map: conformal, linear, none")
         ->check(CLI::IsMember({"conformal", "linear", "none"}))->group(display);
-    command->add_option("--map-size", options->mapSize, "Cube-map texels per face edge")
+    command->add_option("--map-size", options->mapSize, "Cube-map texels per face edge (ignored with --cube-map)")
         ->capture_default_str()->group(display);
+    command->add_option("--cube-map", options->cubeMapFile,
+                        "Bend the rays through this file from `cvc bake` instead of the cached bake; its box, map "
+                        "centre and map must match the display's (after --map), its size replaces --map-size")
+        ->group(display);
     command->add_option("--warp", options->warp, "chord (the paper's Eq. 7) or exact (every sample mapped)")
         ->check(CLI::IsMember({"chord", "exact"}))->capture_default_str()->group(display);
     command->add_option("--scale", options->mmPerMetre, "Volume millimetres per CAVE metre")
@@ -192,11 +199,22 @@ void addRenderCommand(CLI::App& program) {
                         "a pinhole view, 25 for a display)")->group(rendering);
     command->add_option("--device", options->device,
                         "Vulkan device: index, part of its name, 'cpu' or 'gpu' (default: $CVC_DEVICE, else the best)");
-    command->callback([options] {
+    command->callback([options, hits] {
         if (options->display.empty()) {
+            if (hits->count() > 0 && options->hitsPath.empty()) {
+                throw std::invalid_argument("--hits needs a file name for a pinhole view (e.g. --hits hits.nrrd)");
+            }
+            if (!options->cubeMapFile.empty()) {
+                throw std::invalid_argument("--cube-map is for display renders (--display)");
+            }
             if (options->outPath.empty()) options->outPath = "render.png";
             runPinholeRender(*options);
         } else {
+            if (!options->hitsPath.empty()) {
+                throw std::invalid_argument("--hits takes no file name for a display render: the hit images go beside "
+                                            "each wall's PNG");
+            }
+            options->isWritingDisplayHits = hits->count() > 0;
             if (options->outPath.empty()) options->outPath = "frames";
             runDisplayRender(*options);
         }

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/raycaster.h"
+#include "engine/render/raycaster.h"
 
 namespace app {
 
@@ -14,7 +14,8 @@ struct RenderOptions {
     std::string rawSpec;
     // Output: a PNG for a pinhole view, a folder for a display
     std::string outPath;
-    std::string hitsPath;
+    std::string hitsPath;               // pinhole view: --hits FILE
+    bool isWritingDisplayHits = false;  // display render: --hits (no file name)
     bool isPrintingStats = false;  // pinhole: also count the volume fetches each ray makes
     bool force = false;
     bool resume = false;
@@ -28,6 +29,7 @@ struct RenderOptions {
     std::string display;
     std::string map;  // empty: the display's own
     int mapSize = 1024;
+    std::string cubeMapFile;  // empty: the cached bake of the display's map
     std::string warp = "chord";
     double mmPerMetre = 10.0;
     bool isWritingBeforeAfter = false;
@@ -53,7 +55,7 @@ struct RenderOptions {
 /// std::invalid_argument for an unknown transfer function.
 engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isDisplay);
 
-/// Renders a display (walls x eyes x poses) into a folder; see app/frame_sequence.h.
+/// Renders a display (walls x eyes x poses) into a folder; see engine/display/frame_sequence.h.
 void runDisplayRender(const RenderOptions& options);
 
 }  // namespace app

@@ -1,16 +1,22 @@
 /// @brief `cvc_bench ceiling`: the rate of plain trilinear volume sampling on a device, the
 /// ceiling a ray caster's sampling rate is measured against (scripts/bench_raycaster.py).
+/// `cvc_bench png`: the time and size of PNG encodings of a rendered wall, to choose the
+/// display sequence's settings (scripts/bench_flythrough.sh).
 #include <algorithm>
+#include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <png.h>
 
-#include "engine/command_submission.h"
-#include "engine/compute_pipeline.h"
-#include "engine/gpu_buffer.h"
-#include "engine/gpu_context.h"
-#include "engine/volume_texture.h"
+#include "engine/core/command_submission.h"
+#include "engine/core/compute_pipeline.h"
+#include "engine/core/gpu_buffer.h"
+#include "engine/core/gpu_context.h"
+#include "engine/output/png_writer.h"
+#include "engine/render/volume_texture.h"
 #include "sampling_ceiling_spv.h"
 #include "volumes/load_volume.h"
 
@@ -58,6 +64,40 @@ void runCeiling(const std::string& volumePath, int size, int steps, int runs, co
               << ", \"median_ms\": " << median << ", \"samples_per_second\": " << samples / (median * 1e-3) << "}\n";
 }
 
+/// Encodes `imagePath`'s pixels with each filter and zlib level, `runs` times each, and prints
+/// one JSON line per setting: median milliseconds and bytes.
+void runPng(const std::string& imagePath, int runs) {
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&image, imagePath.c_str())) throw std::runtime_error(imagePath + ": " + image.message);
+    image.format = PNG_FORMAT_RGBA;
+    std::vector<uint8_t> rgba(PNG_IMAGE_SIZE(image));
+    if (!png_image_finish_read(&image, nullptr, rgba.data(), 0, nullptr)) throw std::runtime_error(imagePath + ": " + image.message);
+    const auto width = static_cast<int>(image.width);
+    const auto height = static_cast<int>(image.height);
+    const std::filesystem::path out = std::filesystem::temp_directory_path() / "cvc_bench_png.png";
+    const std::pair<engine::PngFilter, const char*> filters[] = {{engine::PngFilter::None, "none"},
+                                                                 {engine::PngFilter::Sub, "sub"},
+                                                                 {engine::PngFilter::Up, "up"},
+                                                                 {engine::PngFilter::Paeth, "paeth"},
+                                                                 {engine::PngFilter::Adaptive, "adaptive"}};
+    for (const auto& [filter, name] : filters) {
+        for (int level : {1, 3, 6}) {
+            std::vector<double> ms;
+            for (int run = 0; run < runs; ++run) {
+                const auto start = std::chrono::steady_clock::now();
+                engine::writePng(out.string(), width, height, rgba, true, {level, filter});
+                ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+            }
+            std::sort(ms.begin(), ms.end());
+            std::cout << "{\"image\": \"" << imagePath << "\", \"filter\": \"" << name << "\", \"zlib_level\": " << level
+                      << ", \"median_ms\": " << ms[ms.size() / 2] << ", \"bytes\": " << std::filesystem::file_size(out)
+                      << "}\n";
+        }
+    }
+    std::filesystem::remove(out);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,6 +112,11 @@ int main(int argc, char** argv) {
     ceiling->add_option("--runs", runs, "Repetitions (the median is reported)")->capture_default_str();
     ceiling->add_option("--device", device, "Vulkan device");
     ceiling->callback([&] { runCeiling(volumePath, size, steps, runs, device); });
+    std::string imagePath;
+    CLI::App* png = program.add_subcommand("png", "Time and size of PNG encodings of an image (filters x zlib levels)");
+    png->add_option("image", imagePath, "A PNG, e.g. a rendered wall")->required();
+    png->add_option("--runs", runs, "Repetitions (the median is reported)")->capture_default_str();
+    png->callback([&] { runPng(imagePath, runs); });
     try {
         program.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -34,12 +34,20 @@ std::uint64_t payloadBytesFor(std::uint64_t size) { return 6 * size * size * 4 *
 
 }  // namespace
 
-std::string mapKindName(MapKind kind) { return kind == MapKind::Linear ? "linear" : "conformal"; }
+std::string mapKindName(MapKind kind) {
+    switch (kind) {
+        case MapKind::Conformal: return "conformal";
+        case MapKind::Linear: return "linear";
+        case MapKind::None: return "none";
+    }
+    return "unknown map kind " + std::to_string(static_cast<std::uint32_t>(kind));
+}
 
 MapKind mapKindFromName(const std::string& name) {
-    if (name == "conformal") return MapKind::Conformal;
-    if (name == "linear") return MapKind::Linear;
-    throw std::invalid_argument("map kind '" + name + "': expected 'conformal' or 'linear'");
+    for (MapKind kind : {MapKind::Conformal, MapKind::Linear, MapKind::None}) {
+        if (mapKindName(kind) == name) return kind;
+    }
+    throw std::invalid_argument("unknown map '" + name + "' (conformal, linear, none)");
 }
 
 glm::dvec3 directionFromCubeFace(int face, double s, double t) {
@@ -118,6 +126,10 @@ void saveCubeMap(const CubeMap& map, const std::filesystem::path& path) {
                                std::to_string(map.rgba.size()) + " floats for size " +
                                std::to_string(map.size));
     }
+    if (map.kind != MapKind::Conformal && map.kind != MapKind::Linear) {
+        throw CubeMapFileError("cube map '" + path.string() + "': refusing to write a map of kind " +
+                               mapKindName(map.kind) + " (only conformal and linear maps are baked)");
+    }
     FileHeader header{};
     std::memcpy(header.magic, kMagic, sizeof(kMagic));
     header.version = kVersion;
@@ -163,8 +175,11 @@ CubeMap loadCubeMap(const std::filesystem::path& path) {
         throw CubeMapFileError(name + "face size " + std::to_string(header.size) +
                                " is outside [1, " + std::to_string(kMaxSize) + "]");
     }
-    if (header.kind > static_cast<std::uint32_t>(MapKind::Linear)) {
-        throw CubeMapFileError(name + "unknown map kind " + std::to_string(header.kind));
+    // Kind None means "nothing to bake": a file that claims it is as malformed as an unknown kind.
+    if (header.kind != static_cast<std::uint32_t>(MapKind::Conformal) &&
+        header.kind != static_cast<std::uint32_t>(MapKind::Linear)) {
+        throw CubeMapFileError(name + "map kind " + std::to_string(header.kind) +
+                               " is not a baked map (0 conformal or 1 linear)");
     }
     const std::uint64_t payload = payloadBytesFor(header.size);
     if (header.payloadBytes != payload) {

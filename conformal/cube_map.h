@@ -15,15 +15,18 @@
 
 namespace conformal {
 
-/// Which map a cube map holds.
+/// Which map bends the view rays of a display, and which map a cube map holds. The values are
+/// stored in cube-map files: keep them.
 enum class MapKind : std::uint32_t {
     Conformal = 0,  ///< F = phi6^-1 o phi5 (the product's map)
     Linear = 1,     ///< the non-conformal baseline: polar angles scaled along longitudes
+    None = 2,       ///< no bending: a display with every wall, or a render without the map.
+                    ///< There is nothing to bake: baking refuses it and no cube-map file holds it.
 };
 
-/// "conformal" or "linear".
+/// "conformal", "linear" or "none".
 std::string mapKindName(MapKind kind);
-/// Parses "conformal" or "linear"; throws std::invalid_argument otherwise.
+/// Parses "conformal", "linear" or "none"; throws std::invalid_argument listing them otherwise.
 MapKind mapKindFromName(const std::string& name);
 
 /// A cube map over display directions (seen from the box's map centre, CAVE space).
@@ -71,9 +74,11 @@ glm::vec4 sampleCubeMapBilinear(const CubeMap& map, const glm::dvec3& direction)
 /// File format (little-endian): the 8 bytes "CVCCUBE\0", uint32 version (1), uint32 size,
 /// uint32 map kind, uint32 reserved (0), float64 box size[3], float64 map centre[3], uint64
 /// input hash, uint64 payload byte count (= 6 size^2 16), then the texels as float32.
+/// Throws CubeMapFileError for a map of kind None (such a file would be malformed).
 void saveCubeMap(const CubeMap& map, const std::filesystem::path& path);
 /// Reads and checks a file written by saveCubeMap; throws CubeMapFileError naming the file and
-/// the problem (missing, wrong magic, unsupported version, bad size, truncated, trailing bytes).
+/// the problem (missing, wrong magic, unsupported version, bad size, a map kind other than
+/// conformal or linear, truncated, trailing bytes).
 CubeMap loadCubeMap(const std::filesystem::path& path);
 
 }  // namespace conformal

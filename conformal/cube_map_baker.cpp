@@ -24,6 +24,14 @@ namespace {
 constexpr const char* kAlgorithmVersion = "conformal-vc bake 1";
 constexpr int kMaxBakeSize = 8192;
 
+/// MapKind::None asks for no bending, so there is no map to bake: refuse it before any work.
+void requireBakeableKind(MapKind kind) {
+    if (kind != MapKind::Conformal && kind != MapKind::Linear) {
+        throw std::invalid_argument("cube-map bake: map kind " + mapKindName(kind) +
+                                    " has nothing to bake (conformal or linear)");
+    }
+}
+
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -61,6 +69,7 @@ std::uint64_t bakeInputHash(const BakeSettings& settings) {
 }
 
 CubeMap bakeCubeMap(const DirectionMap& map, const CaveBox& box, MapKind kind, int size) {
+    requireBakeableKind(kind);
     if (size < 2 || size > kMaxBakeSize) {
         throw std::invalid_argument("cube-map bake: size " + std::to_string(size) +
                                     " is outside [2, " + std::to_string(kMaxBakeSize) + "]");
@@ -109,6 +118,7 @@ CubeMap bakeCubeMap(const DirectionMap& map, const CaveBox& box, MapKind kind, i
 }
 
 CubeMap bakeCubeMap(const BakeSettings& settings, BakeReport* report) {
+    requireBakeableKind(settings.kind);
     validateCaveBox(settings.box);
     const auto start = std::chrono::steady_clock::now();
     CubeMap cube;
@@ -141,6 +151,7 @@ std::filesystem::path cubeMapCacheDirectory() {
 }
 
 CubeMap cachedCubeMap(const BakeSettings& settings, BakeReport* report) {
+    requireBakeableKind(settings.kind);
     const std::uint64_t hash = bakeInputHash(settings);
     std::ostringstream name;
     name << "cubemap-" << std::hex << std::setw(16) << std::setfill('0') << hash << ".cvcm";

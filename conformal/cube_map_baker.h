@@ -31,10 +31,12 @@ struct BakeReport {
 std::uint64_t bakeInputHash(const BakeSettings& settings);
 
 /// Samples `map` at every texel centre into RGB, and the local scale from differences of
-/// neighbouring texels into A (see CubeMap). Uses all hardware threads.
+/// neighbouring texels into A (see CubeMap). Uses all hardware threads. Throws
+/// std::invalid_argument for MapKind::None (nothing to bake) and for a size outside [2, 8192].
 CubeMap bakeCubeMap(const DirectionMap& map, const CaveBox& box, MapKind kind, int size);
 
-/// Builds the map the settings ask for and bakes it. Throws on invalid settings.
+/// Builds the map the settings ask for and bakes it. Throws std::invalid_argument on invalid
+/// settings, MapKind::None among them.
 CubeMap bakeCubeMap(const BakeSettings& settings, BakeReport* report = nullptr);
 
 /// Where cached bakes live: $CVC_CACHE_DIR if set, else $XDG_CACHE_HOME/conformal-vc, else
@@ -43,6 +45,7 @@ std::filesystem::path cubeMapCacheDirectory();
 
 /// Loads the bake for `settings` from the cache when a valid file with the same input hash is
 /// there; otherwise bakes it and stores it (a cache that cannot be written is not an error).
+/// Refuses MapKind::None like bakeCubeMap.
 CubeMap cachedCubeMap(const BakeSettings& settings, BakeReport* report = nullptr);
 
 }  // namespace conformal

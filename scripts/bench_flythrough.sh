@@ -1,27 +1,65 @@
 #!/usr/bin/env bash
-# Usage: scripts/bench_flythrough.sh [frames] [output-folder]
+# Usage: scripts/bench_flythrough.sh [rounds] [output-folder]
 # Times the product's main job: a fly-through of the colon phantom on the 5-wall Immersive
-# Cabin (10 images of 1400x1050 / 1050x1050 per stereo frame) through the conformal map: the
-# defaults (1-voxel step, empty-space skipping), a half-voxel step, skipping off, and one frame
-# at the demo's polyp pose. Runs alternate on the same frames. Prints seconds per
-# stereo frame (whole command: ray casting, read-back, PNG encoding, sheets) and the device time
-# of the ray casting alone, and frames per minute. Default: 10 frames.
+# Cabin (10 images of 1400x1050 / 1050x1050 per stereo frame, PNGs and review sheets included)
+# through the conformal map, with the defaults. Each round runs a 1-frame and an 11-frame
+# fly-through and VTK's 1024^2 inside view of the yardstick (../shared/bench/vtk), alternated,
+# so the ratio survives a noisy machine. Reports medians of
+#   - the marginal wall time per stereo frame, (T(11 frames) - T(1 frame)) / 10: what a frame
+#     costs once the volume, the map and the pipelines are loaded;
+#   - the ray-casting device time per stereo frame in the same runs, and the host's share
+#     (marginal / device: 1.0 means the host adds nothing);
+#   - VTK's time for its view, and the marginal frame time as a multiple of it.
+# Needs python3-vtk9, python3-numpy and xvfb for VTK (--no-vtk as third argument leaves it out).
+# Default: 3 rounds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-frames=${1:-10}
+rounds=${1:-3}
 out=${2:-out/bench_flythrough}
+with_vtk=${3:-}
 cvc=build/app/cvc
 mkdir -p "$out"
 [ -f "$out/colon.nrrd" ] || "$cvc" phantom -o "$out/colon.nrrd" > /dev/null
-echo "device: $(vulkaninfo --summary 2>/dev/null | grep -m1 deviceName | sed 's/.*= //')"
+if [ "$with_vtk" != --no-vtk ] && [ ! -f "$out/phantom512.mhd" ]; then
+  /usr/bin/python3 ../shared/bench/vtk/make_phantom.py --out "$out/phantom512" > /dev/null
+fi
+echo "device: $("$cvc" render "$out/colon.nrrd" --size 8x8 --force -o "$out/probe.png" | sed -n 's/^rendered 8x8 on \(.*\): ray.*/\1/p')"
 echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
-run() {
-  local label=$1; shift
+
+# Prints "<wall seconds> <device ms per frame>" of one fly-through of $1 frames.
+flythrough() {
   local line
-  line=$("$cvc" render "$out/colon.nrrd" --display ic5 --force "$@" 2>/dev/null | grep '^rendered')
-  echo "$label: $line"
+  line=$("$cvc" render "$out/colon.nrrd" --display ic5 --path "$out/colon.json" --frames "$1" --force \
+           -o "$out/frames_$1" 2>/dev/null | grep '^rendered')
+  echo "$(echo "$line" | sed -n 's/.* in \([0-9.]*\) s,.*/\1/p') $(echo "$line" | sed -n 's/.*ray casting \([0-9.]*\) ms.*/\1/p')"
 }
-run "fly-through, $frames frames, defaults (step 1 voxel, skipping)" --path "$out/colon.json" --frames "$frames" -o "$out/frames_default"
-run "fly-through, $frames frames, step 0.5 voxel, skipping      " --path "$out/colon.json" --frames "$frames" --step 0.5 -o "$out/frames_half_step"
-run "fly-through, $frames frames, step 1 voxel, no skipping     " --path "$out/colon.json" --frames "$frames" --no-skip -o "$out/frames_no_skip"
-run "polyp 3 pose (the demo's), 1 frame, defaults" --path "$out/colon.json" --polyp 3 --polyp-elevation 50 --scale 4 -o "$out/polyp3"
+vtk() {
+  xvfb-run -a -s "-screen 0 1280x1024x24" /usr/bin/python3 ../shared/bench/vtk/render.py \
+    --volume "$out/phantom512.mhd" --mapper cpu --mode iso --camera-json "$out/phantom512.json" --camera inside \
+    --width 1024 --height 1024 --sample-distance 0.5 --png "$out/vtk.png" 2>/dev/null |
+    /usr/bin/python3 -c 'import json, sys; print(json.loads(sys.stdin.read().strip().splitlines()[-1])["median_s"])'
+}
+
+marginals=() devices=() vtks=()
+for ((r = 0; r < rounds; ++r)); do
+  read -r t1 d1 < <(flythrough 1)
+  read -r t11 d11 < <(flythrough 11)
+  marginal=$(awk -v a="$t11" -v b="$t1" 'BEGIN {printf "%.3f", (a - b) / 10}')
+  marginals+=("$marginal")
+  devices+=("$(awk -v d="$d11" 'BEGIN {printf "%.3f", d / 1000}')")
+  line="round $((r + 1)): 1 frame $t1 s, 11 frames $t11 s, marginal $marginal s/frame, device $(awk -v d="$d11" 'BEGIN {printf "%.3f", d / 1000}') s/frame"
+  if [ "$with_vtk" != --no-vtk ]; then
+    v=$(vtk)
+    vtks+=("$v")
+    line+=", VTK inside view $v s"
+  fi
+  echo "$line"
+done
+median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
+m=$(median "${marginals[@]}")
+d=$(median "${devices[@]}")
+echo "median: marginal wall time $m s per stereo frame, ray casting $d s per frame, host share (marginal / device) $(awk -v m="$m" -v d="$d" 'BEGIN {printf "%.2f", m / d}')"
+if ((${#vtks[@]})); then
+  v=$(median "${vtks[@]}")
+  echo "median: VTK inside view $v s; stereo frame = $(awk -v m="$m" -v v="$v" 'BEGIN {printf "%.2f", m / v}') x VTK's view"
+fi

@@ -9,7 +9,7 @@ build_dir=${1:-build}
 
 packages=(
   build-essential cmake ninja-build pkg-config git
-  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
+  libvulkan-dev vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
   libglm-dev libeigen3-dev libcli11-dev nlohmann-json3-dev
   libpng-dev zlib1g-dev
@@ -19,18 +19,50 @@ packages=(
   clang libclang-rt-14-dev
 )
 
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
 done
 if ((${#missing[@]})); then
   echo "setup: installing ${missing[*]}"
-  sudo=""
-  [ "$(id -u)" -eq 0 ] || sudo="sudo"
-  export DEBIAN_FRONTEND=noninteractive
   $sudo apt-get update -q
   $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
+
+# lavapipe (Mesa's CPU Vulkan driver) from bookworm-backports: Debian 12 ships Mesa 22.3, whose
+# ray casting is about 2x slower than Mesa 25's on the same binary (docs/benchmarks.md). The
+# backports suite is enabled the standard way: its packages keep apt's low priority (100), so only
+# mesa-vulkan-drivers and what it needs come from there. Where backports cannot be had (another
+# release, no network to it), the release's Mesa is installed instead and setup says so.
+mesa_version() { dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true; }
+codename=$(. /etc/os-release 2>/dev/null && echo "${VERSION_CODENAME:-}")
+if [[ "$(mesa_version)" != *bpo* ]]; then
+  installed_backports=no
+  if [ "$codename" = bookworm ]; then
+    list=/etc/apt/sources.list.d/bookworm-backports.sources
+    if ! grep -rqs 'bookworm-backports' /etc/apt/sources.list /etc/apt/sources.list.d/; then
+      echo "setup: enabling bookworm-backports ($list)"
+      printf '%s\n' 'Types: deb' 'URIs: http://deb.debian.org/debian' 'Suites: bookworm-backports' \
+        'Components: main' 'Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg' | $sudo tee "$list" >/dev/null
+    fi
+    if $sudo apt-get update -q && $sudo apt-get install -y -q --no-install-recommends \
+        -t bookworm-backports mesa-vulkan-drivers; then
+      installed_backports=yes
+    fi
+  fi
+  if [ "$installed_backports" = no ]; then
+    echo "setup: Mesa from bookworm-backports is not available here; using the release's Mesa (slower lavapipe)"
+    dpkg-query -W -f='${Status}' mesa-vulkan-drivers 2>/dev/null | grep -q 'install ok installed' || {
+      $sudo apt-get update -q
+      $sudo apt-get install -y -q --no-install-recommends mesa-vulkan-drivers
+    }
+  fi
+fi
+echo "setup: lavapipe from mesa-vulkan-drivers $(mesa_version)"
 
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCVC_BUILD_TESTS=ON

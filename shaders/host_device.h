@@ -3,7 +3,7 @@
 ///
 /// Included from C++ (with GLM types) and from GLSL (with its built-in types), so both sides
 /// agree on every offset. Only 16-byte members are used: std140 and C++ then lay them out
-/// identically (checked by static_asserts in engine/raycaster.cpp).
+/// identically (checked by static_asserts in engine/render/raycaster.cpp).
 #ifndef CVC_HOST_DEVICE_H
 #define CVC_HOST_DEVICE_H
 

@@ -125,6 +125,46 @@ TEST(CliErrors, UnwritableOutputFolder) {
                        "does not exist");
 }
 
+TEST(CliErrors, BakeRefusesADisplayWithoutAMissingWall) {
+    const fs::path out = tmp("cave6.cvcm");
+    fs::remove(out);
+    expectOneLineError(runCvc("bake --display cave6 --size 16 -o " + out.string(),
+                              "CVC_CACHE_DIR=" + tmp("bake_cave6_cache").string()),
+                       "display 'cave6' has no missing wall: there is no map to bake");
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliErrors, RenderRefusesACubeMapBakedForAnotherDisplay) {
+    // A linear map (baked in milliseconds) for the 2.4 m cube, used with the Immersive Cabin.
+    const std::string cache = "CVC_CACHE_DIR=" + tmp("cube_map_mismatch_cache").string();
+    const fs::path cubeBox = tmp("cube_box_linear.cvcm");
+    const auto bake = runCvc("bake --box 2.4 2.4 2.4 --map linear --size 16 --force -o " + cubeBox.string(), cache);
+    ASSERT_EQ(bake.exitCode, 0) << bake.err;
+    EXPECT_NE(bake.out.find("wrote linear cube map 16^2 x 6 for display 'custom', box 2.4 x 2.4 x 2.4 m"),
+              std::string::npos)
+        << bake.out;
+
+    const fs::path volume = writeSmallVolume("cube_map_mismatch.nrrd");
+    const std::string render = "render " + volume.string() +
+                               " --display ic5 --position 7.5,7.5,4 --look-at 7.5,7.5,12 --up 0,1,0 --force" +
+                               " --cube-map " + cubeBox.string() + " -o " + tmp("cube_map_mismatch").string();
+    expectOneLineError(runCvc(render + " --map linear", cache),
+                       "cube map " + cubeBox.string() +
+                           " was baked for box 2.4 x 2.4 x 2.4 m, the display 'ic5' has 2.95 x 2.21 x 2.95 m");
+    // --map is applied first, then the file's kind is checked against it.
+    expectOneLineError(runCvc(render + " --map conformal", cache),
+                       "holds the linear map, the display 'ic5' asks for conformal");
+    expectOneLineError(runCvc(render + " --map none", cache), "display 'ic5' asks for no map");
+    EXPECT_FALSE(fs::exists(tmp("cube_map_mismatch") / "frame_0000"));
+}
+
+TEST(CliErrors, CubeMapIsForDisplayRenders) {
+    const fs::path volume = writeSmallVolume("pinhole_cube_map.nrrd");
+    expectOneLineError(runCvc("render " + volume.string() + " --cube-map x.cvcm --force -o " +
+                              tmp("pinhole_cube_map.png").string()),
+                       "--cube-map is for display renders (--display)");
+}
+
 TEST(CliRender, WritesAPngOfThePhantom) {
     const fs::path volume = tmp("cli_ball.nrrd");
     ASSERT_EQ(runCvc("phantom --kind ball --size 48 --force -o " + volume.string()).exitCode, 0);

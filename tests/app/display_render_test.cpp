@@ -114,6 +114,48 @@ TEST(DisplayRender, ConformalDisplayWritesTheBeforeAfterSheet) {
     EXPECT_NE(run.err.find("map: conformal, 32^2 per face"), std::string::npos) << run.err;
 }
 
+TEST(DisplayRender, BakedCubeMapOfTheDisplayIsUsedAndRecorded) {
+    const SmallScene scene;
+    // A display of its own with the map centred below the box centre: `cvc bake --display`
+    // takes box, centre and map from it, and `cvc render --cube-map` accepts the result.
+    const fs::path display = tmp("display/tiny_lowered.json");
+    std::ofstream(display) << R"({"name": "tiny-lowered", "box_size_m": [2.95, 2.21, 2.95], "map": "linear",
+        "map_centre_m": [0, -0.2, 0], "walls": [
+        {"name": "front", "width": 40, "height": 30}, {"name": "back", "width": 40, "height": 30},
+        {"name": "left", "width": 40, "height": 30}, {"name": "right", "width": 40, "height": 30},
+        {"name": "floor", "width": 30, "height": 30}]})";
+    const std::string cache = "CVC_CACHE_DIR=" + tmp("display/cache_lowered").string();
+    const fs::path cubeMap = tmp("display/tiny_lowered.cvcm");
+    const auto bake = runCvc("bake --display " + display.string() + " --size 16 --force -o " + cubeMap.string(), cache);
+    ASSERT_EQ(bake.exitCode, 0) << bake.err;
+    EXPECT_NE(bake.out.find("map centre (0, -0.2, 0) m"), std::string::npos) << bake.out;
+
+    const fs::path out = tmp("display/frames_cube_map");
+    fs::remove_all(out);
+    const auto run = runCvc("render " + scene.volume.string() + " --display " + display.string() +
+                                " --position 15.5,15.5,8 --look-at 15.5,15.5,20 --up 0,1,0 --map-size 64 --force"
+                                " --cube-map " + cubeMap.string() + " -o " + out.string(),
+                            cache);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    // The file's 16^2 wins over --map-size 64.
+    EXPECT_NE(run.err.find("map: linear, 16^2 per face, from " + cubeMap.string()), std::string::npos) << run.err;
+    EXPECT_TRUE(fs::exists(out / "frame_0000" / "left" / "front.png"));
+    const std::string manifest = testing_support::readWholeFile(out / "render.json");
+    EXPECT_NE(manifest.find("\"" + fs::absolute(cubeMap).string() + "\""), std::string::npos) << manifest;
+
+    // Without the file the same display uses the cached bake, the very one `cvc bake` stored: one
+    // builder of the bake request, one cache entry. No file is recorded.
+    const fs::path cached = tmp("display/frames_cached_map");
+    fs::remove_all(cached);
+    const auto bakedHere = runCvc("render " + scene.volume.string() + " --display " + display.string() +
+                                      " --position 15.5,15.5,8 --look-at 15.5,15.5,20 --up 0,1,0 --map-size 16 --force"
+                                      " -o " + cached.string(),
+                                  cache);
+    ASSERT_EQ(bakedHere.exitCode, 0) << bakedHere.err;
+    EXPECT_NE(bakedHere.err.find("map: linear, 16^2 per face, loaded from"), std::string::npos) << bakedHere.err;
+    EXPECT_EQ(testing_support::readWholeFile(cached / "render.json").find(".cvcm"), std::string::npos);
+}
+
 TEST(DisplayRender, RefusesWhatItCannotDo) {
     const SmallScene scene;
     const auto cave4 = runCvc("render " + scene.volume.string() + " --display cave4 --position 15,15,8 --look-at 15,15,20 -o " +

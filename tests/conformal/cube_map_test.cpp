@@ -1,7 +1,10 @@
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -122,6 +125,68 @@ TEST(CubeMap, FileRoundTripsAndBadFilesAreNamed) {
     }
     expectError(trailing, "unexpected bytes");
     expectError(kTmp / "missing.cvcm", "cannot open");
+}
+
+TEST(CubeMap, KindNamesRoundTripAndUnknownNamesListTheChoices) {
+    for (MapKind kind : {MapKind::Conformal, MapKind::Linear, MapKind::None}) {
+        EXPECT_EQ(mapKindFromName(mapKindName(kind)), kind);
+    }
+    EXPECT_EQ(mapKindName(MapKind::None), "none");
+    try {
+        mapKindFromName("bent");
+        ADD_FAILURE() << "no error for an unknown map";
+    } catch (const std::invalid_argument& error) {
+        EXPECT_NE(std::string(error.what()).find("'bent' (conformal, linear, none)"), std::string::npos)
+            << error.what();
+    }
+}
+
+TEST(CubeMap, KindNoneIsNeitherBakedNorWrittenNorRead) {
+    // "No bending" has no map: a bake of it is a caller's mistake, a file claiming it is malformed.
+    BakeSettings settings;
+    settings.size = 8;
+    settings.kind = MapKind::None;
+    const auto expectRefusal = [](const auto& attempt) {
+        try {
+            attempt();
+            ADD_FAILURE() << "no error for map kind none";
+        } catch (const std::invalid_argument& error) {
+            EXPECT_NE(std::string(error.what()).find("map kind none has nothing to bake"), std::string::npos)
+                << error.what();
+        }
+    };
+    expectRefusal([&] { bakeCubeMap(settings); });
+    expectRefusal([&] { bakeCubeMap(LinearMap(CaveBox{}), CaveBox{}, MapKind::None, 8); });
+    const auto cacheDir = kTmp / "cache_none";
+    std::filesystem::remove_all(cacheDir);
+    setenv("CVC_CACHE_DIR", cacheDir.c_str(), 1);
+    expectRefusal([&] { cachedCubeMap(settings); });
+    unsetenv("CVC_CACHE_DIR");
+    EXPECT_FALSE(std::filesystem::exists(cacheDir));
+
+    CubeMap cube = bakeCubeMap(LinearMap(CaveBox{}), CaveBox{}, MapKind::Linear, 4);
+    cube.kind = MapKind::None;
+    EXPECT_THROW(saveCubeMap(cube, kTmp / "none_written.cvcm"), CubeMapFileError);
+    EXPECT_FALSE(std::filesystem::exists(kTmp / "none_written.cvcm"));
+
+    // A file whose header says kind 2 (None): the kind field follows magic, version and size.
+    cube.kind = MapKind::Linear;
+    const auto claimsNone = kTmp / "claims_none.cvcm";
+    saveCubeMap(cube, claimsNone);
+    {
+        std::fstream file(claimsNone, std::ios::in | std::ios::out | std::ios::binary);
+        file.seekp(16);
+        const std::uint32_t none = static_cast<std::uint32_t>(MapKind::None);
+        file.write(reinterpret_cast<const char*>(&none), sizeof(none));
+    }
+    try {
+        loadCubeMap(claimsNone);
+        ADD_FAILURE() << "no error for a file of map kind none";
+    } catch (const CubeMapFileError& error) {
+        const std::string message = error.what();
+        EXPECT_NE(message.find(claimsNone.string()), std::string::npos) << message;
+        EXPECT_NE(message.find("map kind 2 is not a baked map"), std::string::npos) << message;
+    }
 }
 
 TEST(CubeMap, SecondBakeLoadsFromTheCache) {

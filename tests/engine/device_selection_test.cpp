@@ -1,4 +1,4 @@
-#include "engine/device_selection.h"
+#include "engine/core/device_selection.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/display.h"
+#include "engine/display/display.h"
 
 namespace {
 
@@ -68,7 +68,7 @@ TEST(DisplayGeometry, PresetsValidateOrSayWhy) {
         EXPECT_NE(std::string(e.what()).find("not yet supported"), std::string::npos) << e.what();
     }
     engine::Display cave4 = engine::displayPreset("cave4");
-    cave4.map = engine::MapChoice::None;
+    cave4.map = conformal::MapKind::None;
     EXPECT_NO_THROW(engine::validateDisplay(cave4));
     EXPECT_THROW(engine::displayPreset("ic7"), std::invalid_argument);
 
@@ -106,6 +106,40 @@ TEST(DisplayGeometry, PointOnAWallProjectsToItsPixel) {
     const auto right = engine::wallView(ic5, WallName::Front, engine::Eye::Right, pose, engine::WarpMode::Chord);
     EXPECT_NEAR(glm::length(right.rays.eyeMm - left.rays.eyeMm), 0.065 * 15.0, 1e-9);
     EXPECT_GT(glm::dot(right.rays.eyeMm - left.rays.eyeMm, rotation[0]), 0.0);
+}
+
+TEST(DisplayGeometry, PoseCarriesTheMapCentreAndTheBoxSitsAroundIt) {
+    // The rays bend about the map centre (the centre of the baked sphere of directions), so the
+    // pose places that point; an off-centre map shifts the walls and eyes, not the bend.
+    engine::Display ic5 = engine::displayPreset("ic5");
+    ic5.mapCentreM = {0.1, -0.3, 0.2};
+    engine::ScenePose pose;
+    pose.positionMm = {100.0, 120.0, 80.0};
+    pose.forward = glm::normalize(glm::dvec3(0.3, 0.1, 1.0));
+    pose.up = {0.0, -1.0, 0.0};
+    pose.mmPerMetre = 15.0;
+    const glm::dmat3 rotation = engine::caveToVolumeRotation(pose);
+    const auto view = engine::wallView(ic5, WallName::Front, engine::Eye::Left, pose, engine::WarpMode::Chord);
+    EXPECT_EQ(view.warp.mapCentreMm, pose.positionMm);
+    const auto rect = engine::wallRectangle(ic5, WallName::Front);
+    const glm::dvec3 wallOriginMm = pose.positionMm + rotation * (rect.topLeftM - ic5.mapCentreM) * pose.mmPerMetre;
+    EXPECT_NEAR(glm::length(view.rays.wallOriginMm - wallOriginMm), 0.0, 1e-9);
+    const glm::dvec3 eyeMm =
+        pose.positionMm + rotation * (engine::eyePositionM(ic5, engine::Eye::Left) - ic5.mapCentreM) * pose.mmPerMetre;
+    EXPECT_NEAR(glm::length(view.rays.eyeMm - eyeMm), 0.0, 1e-9);
+}
+
+TEST(DisplayGeometry, MapCentreMustLieStrictlyInsideTheBox) {
+    engine::Display display = engine::displayPreset("ic5");
+    display.mapCentreM = {0.0, 0.5 * display.boxSizeM.y, 0.0};  // on the ceiling's plane
+    try {
+        engine::validateDisplay(display);
+        FAIL() << "a map centre on the box's surface was accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("map centre (map_centre_m)"), std::string::npos) << e.what();
+    }
+    display.mapCentreM = {0.0, 0.49 * display.boxSizeM.y, 0.0};
+    EXPECT_NO_THROW(engine::validateDisplay(display));
 }
 
 }  // namespace

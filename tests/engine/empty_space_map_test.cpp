@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/empty_space_map.h"
+#include "engine/render/empty_space_map.h"
 
 namespace {
 

@@ -6,10 +6,10 @@
 #include <gtest/gtest.h>
 
 #include "affine_fill_spv.h"
-#include "engine/command_submission.h"
-#include "engine/compute_pipeline.h"
-#include "engine/gpu_buffer.h"
-#include "engine/volume_texture.h"
+#include "engine/core/command_submission.h"
+#include "engine/core/compute_pipeline.h"
+#include "engine/core/gpu_buffer.h"
+#include "engine/render/volume_texture.h"
 #include "tests/support/gpu_test_fixture.h"
 
 namespace {

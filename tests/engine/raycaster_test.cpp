@@ -8,10 +8,10 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/pinhole_camera.h"
-#include "engine/raycaster.h"
-#include "engine/view_rays.h"
-#include "engine/volume_texture.h"
+#include "engine/render/pinhole_camera.h"
+#include "engine/render/raycaster.h"
+#include "engine/render/view_rays.h"
+#include "engine/render/volume_texture.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "tests/support/image_compare.h"
 #include "volumes/analytic_phantom.h"

@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/display.h"
-#include "engine/raycaster.h"
-#include "engine/volume_texture.h"
+#include "engine/display/display.h"
+#include "engine/render/raycaster.h"
+#include "engine/render/volume_texture.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "volumes/analytic_phantom.h"
 #include "volumes/brick_minmax.h"
@@ -51,7 +51,7 @@ class Stereo : public testing_support::GpuTest {};
 
 TEST_F(Stereo, DisparityHasTheClosedFormSignAndSize) {
     engine::Display cave = engine::displayPreset("cave6");
-    cave.map = engine::MapChoice::None;
+    cave.map = conformal::MapKind::None;
     for (auto& wall : cave.walls) wall.width = wall.height = 512;
     const double mmPerMetre = 20.0;
     const double wallDistanceM = 0.5 * cave.boxSizeM.z;  // the front wall is 1.2 m ahead

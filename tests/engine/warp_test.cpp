@@ -10,9 +10,9 @@
 #include <gtest/gtest.h>
 
 #include "conformal/cube_map_baker.h"
-#include "engine/display.h"
-#include "engine/raycaster.h"
-#include "engine/volume_texture.h"
+#include "engine/display/display.h"
+#include "engine/render/raycaster.h"
+#include "engine/render/volume_texture.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "tests/support/image_compare.h"
 #include "volumes/analytic_phantom.h"
@@ -52,7 +52,7 @@ engine::Display fiveWallCube(int pixels) {
     engine::Display display = engine::displayPreset("cave6");
     display.walls.pop_back();  // no ceiling
     for (auto& wall : display.walls) wall.width = wall.height = pixels;
-    display.map = engine::MapChoice::Conformal;
+    display.map = conformal::MapKind::Conformal;
     return display;
 }
 

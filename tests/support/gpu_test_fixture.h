@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/gpu_context.h"
+#include "engine/core/gpu_context.h"
 
 namespace testing_support {
 

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <utility>
 
-#include "engine/raycaster.h"
+#include "engine/render/raycaster.h"
 
 namespace testing_support {
 

@@ -1,0 +1,260 @@
+#include "engine/display/camera_path.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace engine {
+namespace {
+
+bool isFinite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// Points no closer than this are merged: they carry no direction.
+constexpr double kMinSegmentMm = 1e-6;
+/// A path file larger than this is not a centreline.
+constexpr std::size_t kMaxPoints = 10'000'000;
+
+/// The JSON document in `in`, or an error naming `path`.
+nlohmann::json parseJson(const std::string& path, std::istream& in) {
+    try {
+        return nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        throw std::runtime_error(path + ": not valid JSON (" + e.what() + ")");
+    }
+}
+
+bool isVec3(const nlohmann::json& value) {
+    return value.is_array() && value.size() == 3 && value[0].is_number() && value[1].is_number() && value[2].is_number();
+}
+
+glm::dvec3 vec3Of(const nlohmann::json& value) {
+    return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
+}
+
+std::vector<glm::dvec3> fromJson(const std::string& path, std::istream& in) {
+    const nlohmann::json document = parseJson(path, in);
+    if (!document.is_object() || !document.contains("centreline_mm") || !document["centreline_mm"].is_array()) {
+        throw std::runtime_error(path + ": no \"centreline_mm\" array (expected a phantom's ground truth)");
+    }
+    std::vector<glm::dvec3> points;
+    for (const auto& point : document["centreline_mm"]) {
+        if (!isVec3(point)) {
+            throw std::runtime_error(path + ": centreline point " + std::to_string(points.size()) +
+                                     " is not three numbers");
+        }
+        points.push_back(vec3Of(point));
+        if (points.size() > kMaxPoints) throw std::runtime_error(path + ": more than 10 million points");
+    }
+    return points;
+}
+
+std::vector<glm::dvec3> fromText(const std::string& path, std::istream& in) {
+    std::vector<glm::dvec3> points;
+    std::string line;
+    int lineNumber = 0;
+    while (std::getline(in, line)) {
+        ++lineNumber;
+        line = line.substr(0, line.find('#'));
+        std::replace(line.begin(), line.end(), ',', ' ');
+        std::istringstream fields(line);
+        std::vector<std::string> tokens;
+        for (std::string token; fields >> token && tokens.size() < 4;) tokens.push_back(token);
+        if (tokens.empty()) continue;  // blank or comment line
+        if (tokens.size() != 3) {
+            throw std::runtime_error(path + ":" + std::to_string(lineNumber) + ": expected three numbers x y z");
+        }
+        double xyz[3];
+        for (int k = 0; k < 3; ++k) {
+            char* end = nullptr;
+            xyz[k] = std::strtod(tokens[static_cast<std::size_t>(k)].c_str(), &end);
+            if (end == tokens[static_cast<std::size_t>(k)].c_str() || *end != '\0' || !std::isfinite(xyz[k])) {
+                throw std::runtime_error(path + ":" + std::to_string(lineNumber) + ": '" +
+                                         tokens[static_cast<std::size_t>(k)] + "' is not a finite number");
+            }
+        }
+        points.emplace_back(xyz[0], xyz[1], xyz[2]);
+        if (points.size() > kMaxPoints) throw std::runtime_error(path + ": more than 10 million points");
+    }
+    return points;
+}
+
+/// Carries `up` from one forward direction to the next by the rotation that takes one to the
+/// other (the double-reflection method of Wang et al. 2008, in its limit of a single step).
+glm::dvec3 transportUp(const glm::dvec3& up, const glm::dvec3& fromForward, const glm::dvec3& toForward) {
+    const glm::dvec3 axis = glm::cross(fromForward, toForward);
+    const double sinAngle = glm::length(axis);
+    const double cosAngle = glm::clamp(glm::dot(fromForward, toForward), -1.0, 1.0);
+    glm::dvec3 carried = up;
+    if (sinAngle > 1e-12) {
+        const glm::dvec3 k = axis / sinAngle;
+        carried = up * cosAngle + glm::cross(k, up) * sinAngle + k * glm::dot(k, up) * (1.0 - cosAngle);
+    }
+    // Re-orthogonalise against the new forward to keep rounding from accumulating.
+    carried -= glm::dot(carried, toForward) * toForward;
+    return glm::normalize(carried);
+}
+
+}  // namespace
+
+std::vector<glm::dvec3> readPolyline(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error(path + ": cannot open path file");
+    const bool isJson = path.size() >= 5 && path.substr(path.size() - 5) == ".json";
+    std::vector<glm::dvec3> raw = isJson ? fromJson(path, in) : fromText(path, in);
+    std::vector<glm::dvec3> points;
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+        if (!isFinite(raw[i])) throw std::runtime_error(path + ": point " + std::to_string(i) + " is not finite");
+        if (points.empty() || glm::length(raw[i] - points.back()) > kMinSegmentMm) points.push_back(raw[i]);
+    }
+    if (points.size() < 2) throw std::runtime_error(path + ": a path needs at least two distinct points");
+    return points;
+}
+
+std::vector<CameraPose> posesAlong(const std::vector<glm::dvec3>& polyline, const PathSettings& settings) {
+    if (!(settings.stepMm > 0.0) || !(settings.smoothingMm >= 0.0) || !std::isfinite(settings.stepMm) ||
+        !std::isfinite(settings.smoothingMm)) {
+        throw std::invalid_argument("path: step must be positive and smoothing non-negative");
+    }
+    if (polyline.size() < 2) throw std::invalid_argument("path: needs at least two points");
+    std::vector<glm::dvec3> points = polyline;
+    if (settings.direction == Direction::Retrograde) std::reverse(points.begin(), points.end());
+
+    // Cumulative arc length, and the point at any arc length by linear interpolation.
+    std::vector<double> arc(points.size(), 0.0);
+    for (std::size_t i = 1; i < points.size(); ++i) arc[i] = arc[i - 1] + glm::length(points[i] - points[i - 1]);
+    const double total = arc.back();
+    const auto pointAt = [&](double s) {
+        s = std::clamp(s, 0.0, total);
+        const auto upper = std::upper_bound(arc.begin(), arc.end(), s);
+        const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(upper - arc.begin()), points.size() - 1);
+        const std::size_t j = i == 0 ? 0 : i - 1;
+        const double span = arc[i] - arc[j];
+        const double f = span > 0.0 ? (s - arc[j]) / span : 0.0;
+        return glm::mix(points[j], points[i], f);
+    };
+    if (total < settings.stepMm) throw std::invalid_argument("path: shorter than one step");
+    const double frameCount = std::floor(total / settings.stepMm) + 1.0;
+    if (frameCount > settings.maxFrames) {
+        throw std::invalid_argument("path: " + std::to_string(static_cast<long long>(frameCount)) +
+                                    " frames exceed the limit of " + std::to_string(settings.maxFrames));
+    }
+
+    std::vector<CameraPose> poses;
+    glm::dvec3 previousForward{0.0};
+    for (int frame = 0; frame < static_cast<int>(frameCount); ++frame) {
+        const double s = frame * settings.stepMm;
+        // The smoothed tangent: the chord across the window, widened near the ends.
+        const double half = std::max(settings.smoothingMm, 0.5 * settings.stepMm);
+        glm::dvec3 chord = pointAt(s + half) - pointAt(s - half);
+        if (glm::length(chord) < kMinSegmentMm) chord = pointAt(s + 1.0) - pointAt(s - 1.0);
+        CameraPose pose;
+        pose.positionMm = pointAt(s);
+        pose.forward = glm::normalize(chord);
+        if (frame == 0) {
+            glm::dvec3 up = settings.initialUp - glm::dot(settings.initialUp, pose.forward) * pose.forward;
+            if (glm::length(up) < 1e-6) {
+                // The requested up is along the path: take the axis most orthogonal to it.
+                const glm::dvec3 a = std::abs(pose.forward.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+                up = a - glm::dot(a, pose.forward) * pose.forward;
+            }
+            pose.up = glm::normalize(up);
+        } else {
+            pose.up = transportUp(poses.back().up, previousForward, pose.forward);
+        }
+        previousForward = pose.forward;
+        poses.push_back(pose);
+    }
+    return poses;
+}
+
+CameraPose poseViewing(const std::vector<glm::dvec3>& polyline, const glm::dvec3& pointMm, double elevationDeg,
+                       const PathSettings& settings) {
+    if (!(elevationDeg > 0.0 && elevationDeg <= 90.0)) throw std::invalid_argument("elevation must be in (0, 90] degrees");
+    PathSettings fine = settings;
+    fine.stepMm = 0.25;
+    const std::vector<CameraPose> poses = posesAlong(polyline, fine);
+    // Seen at elevation e above the horizon ahead, the point lies e from the view direction.
+    const double wantedAngle = glm::radians(elevationDeg);
+    const auto angleTo = [&](const CameraPose& pose) {
+        const glm::dvec3 toPoint = pointMm - pose.positionMm;
+        const double length = glm::length(toPoint);
+        return length > 0.0 ? std::acos(std::clamp(glm::dot(toPoint / length, pose.forward), -1.0, 1.0)) : 0.0;
+    };
+    // Walk back along the path from the pose nearest to the point: the point's angle from the
+    // view direction falls from about 90 degrees; stop where it reaches the wanted one. Poses
+    // elsewhere on a winding path may see the point at that angle too, but through walls.
+    const auto nearest = std::min_element(poses.begin(), poses.end(), [&](const CameraPose& a, const CameraPose& b) {
+        return glm::length(a.positionMm - pointMm) < glm::length(b.positionMm - pointMm);
+    });
+    auto chosen = nearest;
+    while (chosen != poses.begin() && angleTo(*chosen) > wantedAngle) --chosen;
+    if (chosen != nearest && std::abs(angleTo(*std::next(chosen)) - wantedAngle) < std::abs(angleTo(*chosen) - wantedAngle)) {
+        ++chosen;
+    }
+    CameraPose pose = *chosen;
+    const glm::dvec3 toPoint = pointMm - pose.positionMm;
+    const glm::dvec3 up = toPoint - glm::dot(toPoint, pose.forward) * pose.forward;
+    if (glm::length(up) > 1e-9) pose.up = glm::normalize(up);
+    return pose;
+}
+
+std::vector<glm::dvec3> readPolypCentres(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error(path + ": cannot open ground truth");
+    const nlohmann::json document = parseJson(path, in);
+    if (!document.is_object() || !document.contains("polyps") || !document["polyps"].is_array()) {
+        throw std::runtime_error(path + ": no \"polyps\" list (expected a phantom's ground truth)");
+    }
+    std::vector<glm::dvec3> centres;
+    for (const auto& polyp : document["polyps"]) {
+        if (!polyp.is_object() || !polyp.contains("centre_mm") || !isVec3(polyp["centre_mm"])) {
+            throw std::runtime_error(path + ": polyp " + std::to_string(centres.size()) + " has no centre_mm");
+        }
+        centres.push_back(vec3Of(polyp["centre_mm"]));
+    }
+    return centres;
+}
+
+CameraPose poseLookingAt(const glm::dvec3& positionMm, const glm::dvec3& lookAtMm, const glm::dvec3& up) {
+    CameraPose pose;
+    pose.positionMm = positionMm;
+    const glm::dvec3 view = lookAtMm - positionMm;
+    if (!(glm::length(view) >= 1e-9)) throw std::invalid_argument("the look-at point equals the position");
+    pose.forward = glm::normalize(view);
+    const glm::dvec3 orthogonal = up - glm::dot(up, pose.forward) * pose.forward;
+    if (!(glm::length(orthogonal) >= 1e-9)) throw std::invalid_argument("up is parallel to the view direction");
+    pose.up = glm::normalize(orthogonal);
+    return pose;
+}
+
+std::vector<CameraPose> posesFor(const PoseRequest& request) {
+    if (!request.pathFile.empty()) {
+        const auto polyline = readPolyline(request.pathFile);
+        if (request.polyp >= 0) {
+            const auto centres = readPolypCentres(request.pathFile);
+            if (request.polyp >= static_cast<int>(centres.size())) {
+                throw std::invalid_argument("polyp " + std::to_string(request.polyp) + ": " + request.pathFile +
+                                            " lists " + std::to_string(centres.size()) + " polyps");
+            }
+            return {poseViewing(polyline, centres[static_cast<std::size_t>(request.polyp)], request.polypElevationDeg,
+                                request.path)};
+        }
+        auto poses = posesAlong(polyline, request.path);
+        if (request.maxFrames > 0 && static_cast<int>(poses.size()) > request.maxFrames) {
+            poses.resize(static_cast<std::size_t>(request.maxFrames));
+        }
+        return poses;
+    }
+    if (!request.positionMm || !request.lookAtMm) {
+        throw std::invalid_argument("a display render needs --path, or --position and --look-at");
+    }
+    return {poseLookingAt(*request.positionMm, *request.lookAtMm, request.up)};
+}
+
+}  // namespace engine

@@ -1,0 +1,189 @@
+#include "engine/display/display.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "conformal/cave_box.h"
+
+namespace engine {
+namespace {
+
+[[noreturn]] void invalid(const Display& display, const std::string& problem) {
+    throw std::invalid_argument("display '" + display.name + "': " + problem);
+}
+
+bool isFinite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+std::string wallNameText(WallName wall) {
+    switch (wall) {
+        case WallName::Front: return "front";
+        case WallName::Back: return "back";
+        case WallName::Left: return "left";
+        case WallName::Right: return "right";
+        case WallName::Floor: return "floor";
+        case WallName::Ceiling: return "ceiling";
+    }
+    return "?";
+}
+
+WallName wallNameFromText(const std::string& text) {
+    for (WallName wall : {WallName::Front, WallName::Back, WallName::Left, WallName::Right, WallName::Floor,
+                          WallName::Ceiling}) {
+        if (wallNameText(wall) == text) return wall;
+    }
+    throw std::invalid_argument("unknown wall '" + text + "' (front, back, left, right, floor, ceiling)");
+}
+
+std::vector<std::string> displayPresetNames() { return {"ic5", "cave6", "cave4"}; }
+
+Display displayPreset(const std::string& name) {
+    Display display;
+    display.name = name;
+    if (name == "ic5") {
+        // The Immersive Cabin: its box is defined once, beside the map that is baked for it.
+        const conformal::CaveBox cabin = conformal::immersiveCabinBox();
+        display.boxSizeM = cabin.size;
+        display.mapCentreM = cabin.mapCentre;
+        display.walls = {{WallName::Front, 1400, 1050}, {WallName::Back, 1400, 1050}, {WallName::Left, 1400, 1050},
+                         {WallName::Right, 1400, 1050}, {WallName::Floor, 1050, 1050}};
+        display.map = conformal::MapKind::Conformal;
+    } else if (name == "cave6") {
+        display.boxSizeM = glm::dvec3(2.4);
+        for (WallName wall : {WallName::Front, WallName::Back, WallName::Left, WallName::Right, WallName::Floor,
+                              WallName::Ceiling}) {
+            display.walls.push_back({wall, 1024, 1024});
+        }
+        display.map = conformal::MapKind::None;
+    } else if (name == "cave4") {
+        display.boxSizeM = glm::dvec3(2.4);
+        display.walls = {{WallName::Front, 1024, 1024}, {WallName::Left, 1024, 1024}, {WallName::Right, 1024, 1024},
+                         {WallName::Floor, 1024, 1024}};
+        display.map = conformal::MapKind::Conformal;
+    } else {
+        std::string names;
+        for (const auto& preset : displayPresetNames()) names += (names.empty() ? "" : ", ") + preset;
+        throw std::invalid_argument("unknown display '" + name + "' (presets: " + names + ")");
+    }
+    return display;
+}
+
+void validateDisplay(const Display& display) {
+    const glm::dvec3 size = display.boxSizeM;
+    if (!isFinite(size) || size.x < 0.1 || size.y < 0.1 || size.z < 0.1 || size.x > 100.0 || size.y > 100.0 ||
+        size.z > 100.0) {
+        invalid(display, "box size must be 0.1..100 m on each axis");
+    }
+    if (display.walls.empty()) invalid(display, "lists no walls");
+    std::set<WallName> seen;
+    for (const DisplayWall& wall : display.walls) {
+        if (!seen.insert(wall.name).second) invalid(display, "wall '" + wallNameText(wall.name) + "' is listed twice");
+        if (wall.width < 1 || wall.height < 1 || wall.width > kMaxImageSide || wall.height > kMaxImageSide) {
+            invalid(display, "wall '" + wallNameText(wall.name) + "' must be 1.." + std::to_string(kMaxImageSide) +
+                                 " pixels on each side");
+        }
+    }
+    if (!(display.eyeSeparationM >= 0.0 && display.eyeSeparationM <= 0.5)) {
+        invalid(display, "eye separation must be 0..0.5 m");
+    }
+    if (!(display.nearM > 0.0 && display.nearM < 0.5 * std::min({size.x, size.y, size.z}))) {
+        invalid(display, "near plane must be positive and inside the box");
+    }
+    const glm::dvec3 half = 0.5 * size;
+    for (Eye eye : {Eye::Left, Eye::Right}) {
+        const glm::dvec3 p = eyePositionM(display, eye);
+        if (!isFinite(p) || glm::any(glm::greaterThanEqual(glm::abs(p), half))) {
+            invalid(display, "the " + eyeText(eye) + " eye lies outside the box");
+        }
+    }
+    const glm::dvec3 centre = display.mapCentreM;
+    if (!isFinite(centre) || glm::any(glm::greaterThanEqual(glm::abs(centre), half))) {
+        invalid(display, "map centre (map_centre_m) must lie strictly inside the box");
+    }
+    if (display.map != conformal::MapKind::None) {
+        const bool hasCeiling = seen.count(WallName::Ceiling) > 0;
+        if (hasCeiling) invalid(display, "a bending map is for a display without a ceiling; use map none");
+        if (seen.size() < 5) {
+            invalid(display, "a display missing more than the ceiling is not yet supported by the map (it "
+                             "moves only the ceiling's view onto the walls); use map none to render its walls unbent");
+        }
+    }
+}
+
+WallRectangle wallRectangle(const Display& display, WallName wall) {
+    const glm::dvec3 h = 0.5 * display.boxSizeM;
+    const glm::dvec3 size = display.boxSizeM;
+    switch (wall) {
+        case WallName::Front: return {{-h.x, h.y, -h.z}, {size.x, 0, 0}, {0, -size.y, 0}};
+        case WallName::Back: return {{h.x, h.y, h.z}, {-size.x, 0, 0}, {0, -size.y, 0}};
+        case WallName::Left: return {{-h.x, h.y, h.z}, {0, 0, -size.z}, {0, -size.y, 0}};
+        case WallName::Right: return {{h.x, h.y, -h.z}, {0, 0, size.z}, {0, -size.y, 0}};
+        case WallName::Floor: return {{-h.x, -h.y, -h.z}, {size.x, 0, 0}, {0, 0, size.z}};
+        case WallName::Ceiling: return {{-h.x, h.y, h.z}, {size.x, 0, 0}, {0, 0, -size.z}};
+    }
+    throw std::logic_error("unknown wall");
+}
+
+std::string eyeText(Eye eye) {
+    switch (eye) {
+        case Eye::Left: return "left";
+        case Eye::Centre: return "centre";
+        case Eye::Right: return "right";
+    }
+    return "?";
+}
+
+glm::dvec3 eyePositionM(const Display& display, Eye eye) {
+    const double offset = eye == Eye::Left ? -0.5 : eye == Eye::Right ? 0.5 : 0.0;
+    return display.headPositionM + glm::dvec3(offset * display.eyeSeparationM, 0.0, 0.0);
+}
+
+glm::dmat3 caveToVolumeRotation(const ScenePose& pose) {
+    const double fLength = glm::length(pose.forward);
+    if (!(fLength > 0.0) || !std::isfinite(fLength)) throw std::invalid_argument("scene pose: forward is zero");
+    const glm::dvec3 forward = pose.forward / fLength;
+    const glm::dvec3 right = glm::cross(forward, pose.up);
+    const double rLength = glm::length(right);
+    if (!(rLength > 1e-9 * std::max(1.0, glm::length(pose.up)))) {
+        throw std::invalid_argument("scene pose: up is zero or parallel to forward");
+    }
+    const glm::dvec3 x = right / rLength;
+    const glm::dvec3 y = glm::cross(x, forward);
+    return glm::dmat3(x, y, -forward);  // CAVE x = right, y = up, z = back
+}
+
+WallView wallView(const Display& display, WallName wall, Eye eye, const ScenePose& pose, WarpMode warpMode) {
+    if (!(pose.mmPerMetre > 0.0) || !std::isfinite(pose.mmPerMetre)) {
+        throw std::invalid_argument("scene pose: millimetres per metre must be positive");
+    }
+    const glm::dmat3 rotation = caveToVolumeRotation(pose);
+    const double s = pose.mmPerMetre;
+    // The pose places the map centre, about which the rays bend; the box (the CAVE origin) sits
+    // around it, offset when the map is not centred in the box.
+    const auto toVolume = [&](const glm::dvec3& caveM) {
+        return pose.positionMm + rotation * (caveM - display.mapCentreM) * s;
+    };
+    const WallRectangle rect = wallRectangle(display, wall);
+    const auto found = std::find_if(display.walls.begin(), display.walls.end(),
+                                    [wall](const DisplayWall& w) { return w.name == wall; });
+    if (found == display.walls.end()) {
+        throw std::invalid_argument("display '" + display.name + "' has no " + wallNameText(wall) + " wall");
+    }
+    WallView view;
+    view.rays.eyeMm = toVolume(eyePositionM(display, eye));
+    view.rays.wallOriginMm = toVolume(rect.topLeftM);
+    view.rays.wallUMm = rotation * rect.widthM * s;
+    view.rays.wallVMm = rotation * rect.heightM * s;
+    view.rays.nearMm = display.nearM * s;
+    view.rays.width = found->width;
+    view.rays.height = found->height;
+    view.warp.mode = display.map == conformal::MapKind::None ? WarpMode::None : warpMode;
+    view.warp.mapCentreMm = pose.positionMm;
+    view.warp.caveToVolume = rotation;
+    return view;
+}
+
+}  // namespace engine

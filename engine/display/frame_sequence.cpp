@@ -1,0 +1,393 @@
+#include "engine/display/frame_sequence.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <iomanip>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/display/display_json.h"
+#include "engine/display/review_sheet.h"
+#include "engine/output/hit_image_writer.h"
+#include "engine/output/png_writer.h"
+
+namespace engine {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr Eye kStereoEyes[] = {Eye::Left, Eye::Right};
+
+std::string readText(const fs::path& path) {
+    std::ifstream in(path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+/// The manifest without the renderer (device, driver): a resumed run may use another driver
+/// version, which renders the same images.
+nlohmann::json comparablePart(const std::string& manifest) {
+    nlohmann::json document = nlohmann::json::parse(manifest, nullptr, false);
+    if (document.is_object()) document.erase("renderer");
+    return document;
+}
+
+bool isOurEntry(const fs::path& entry) {
+    const std::string name = entry.filename().string();
+    return name == "render.json" || name.rfind("frame_", 0) == 0 || name.rfind(".frame_", 0) == 0;
+}
+
+/// Removes our earlier output (only ours) when forced, and writes the manifest.
+void prepareFolder(const std::string& manifest, const SequenceOutput& output) {
+    const fs::path folder(output.folder);
+    if (output.isForced && fs::is_directory(folder)) {
+        for (const auto& entry : fs::directory_iterator(folder)) {
+            if (isOurEntry(entry.path())) fs::remove_all(entry.path());
+        }
+    }
+    fs::create_directories(folder);
+    if (access(folder.c_str(), W_OK) != 0) throw std::runtime_error(output.folder + ": folder is not writable");
+    std::ofstream(folder / "render.json") << manifest;
+}
+
+RgbaImage toRgba(RenderedImage&& image) { return RgbaImage{image.width, image.height, std::move(image.rgba)}; }
+
+/// The display's walls at the size downsampled() gives them.
+Display scaledDisplay(const Display& display, int reduction) {
+    Display scaled = display;
+    for (auto& wall : scaled.walls) {
+        wall.width = (wall.width + reduction - 1) / reduction;
+        wall.height = (wall.height + reduction - 1) / reduction;
+    }
+    return scaled;
+}
+
+/// Reduction that brings a cross of `display`'s walls to about `targetWidth` pixels.
+int sheetReduction(const Display& display, int targetWidth) {
+    int width = 0;
+    for (WallName name : {WallName::Left, WallName::Front, WallName::Right, WallName::Back}) {
+        int w = 0;
+        for (const auto& wall : display.walls) {
+            if (wall.name == name) w = wall.width;
+        }
+        width += w > 0 ? w : 512;
+    }
+    return std::max(1, (width + targetWidth - 1) / targetWidth);
+}
+
+std::string partialFolderName(int index) { return '.' + frameFolderName(index) + ".partial"; }
+
+ScenePose scenePoseOf(const SequenceJob& job, int index) {
+    const CameraPose& pose = job.poses[static_cast<std::size_t>(index)];
+    return ScenePose{pose.positionMm, pose.forward, pose.up, job.mmPerMetre};
+}
+
+std::vector<RenderRequest> wallRequests(const Display& display, const ScenePose& pose, std::span<const Eye> eyes,
+                                        const RenderSettings& settings, WarpMode warpMode) {
+    std::vector<RenderRequest> requests;
+    for (Eye eye : eyes) {
+        for (const auto& wall : display.walls) {
+            const WallView view = wallView(display, wall.name, eye, pose, warpMode);
+            requests.push_back({view.rays, settings, view.warp});
+        }
+    }
+    return requests;
+}
+
+/// One frame on its way: what was asked of the device, and the images once collected.
+struct FrameInFlight {
+    int index = 0;
+    std::optional<RenderBatch> batch;
+    std::vector<RenderedImage> images;  // stereo walls (eye after eye), then before/after walls
+};
+
+/// Runs `tasks` on up to `threads` workers and rethrows the first exception any of them threw.
+void runParallel(std::vector<std::function<void()>>& tasks, unsigned threads) {
+    std::atomic<std::size_t> next{0};
+    auto worker = [&] {
+        for (std::size_t i = next++; i < tasks.size(); i = next++) tasks[i]();
+    };
+    std::vector<std::future<void>> workers;
+    for (unsigned t = 1; t < threads && t < tasks.size(); ++t) workers.push_back(std::async(std::launch::async, worker));
+    std::exception_ptr failure;
+    try {
+        worker();
+    } catch (...) {
+        failure = std::current_exception();
+        next = tasks.size();  // the others stop after their current task
+    }
+    for (auto& w : workers) {
+        try {
+            w.get();
+        } catch (...) {
+            if (!failure) failure = std::current_exception();
+        }
+    }
+    if (failure) std::rethrow_exception(failure);
+}
+
+/// Writes a collected frame into its hidden folder (images encoded on worker threads), then
+/// renames the folder into place.
+class FrameWriter {
+public:
+    FrameWriter(const SequenceJob& job, const fs::path& folder, const SequenceHooks& hooks)
+        : mJob(job), mFolder(folder), mHooks(hooks), mReduction(sheetReduction(job.display, 1000)),
+          mThreads(std::max(1u, std::thread::hardware_concurrency())) {}
+
+    void write(FrameInFlight& frame) {
+        const fs::path partial = mFolder / partialFolderName(frame.index);
+        fs::remove_all(partial);
+        try {
+            writeInto(frame, partial);
+            fs::rename(partial, mFolder / frameFolderName(frame.index));
+        } catch (...) {
+            std::error_code ignored;
+            fs::remove_all(partial, ignored);
+            throw;
+        }
+    }
+
+private:
+    void checkCancel() const {
+        if (mHooks.isCancelled && mHooks.isCancelled()) throw SequenceCancelled("cancelled");
+    }
+
+    void writeInto(FrameInFlight& frame, const fs::path& partial) {
+        const auto& walls = mJob.display.walls;
+        const std::size_t wallCount = walls.size();
+        for (Eye eye : kStereoEyes) fs::create_directories(partial / eyeText(eye));
+
+        // Full-size walls to PNG (and hits), each also reduced for the sheet, in parallel.
+        std::vector<RgbaImage> reduced(2 * wallCount);
+        std::vector<std::function<void()>> tasks;
+        for (std::size_t i = 0; i < 2 * wallCount; ++i) {
+            tasks.emplace_back([&, i] {
+                checkCancel();
+                const fs::path eyeFolder = partial / eyeText(kStereoEyes[i / wallCount]);
+                const std::string wallName = wallNameText(walls[i % wallCount].name);
+                RenderedImage& image = frame.images[i];
+                writePng((eyeFolder / (wallName + ".png")).string(), image.width, image.height, image.rgba, true,
+                         mJob.png);
+                if (mJob.isWritingHits) {
+                    writeHitPositionsNrrd((eyeFolder / (wallName + "_hits.nrrd")).string(), image.width, image.height,
+                                          image.hitMm, true);
+                }
+                reduced[i] = downsampled(toRgba(std::move(image)), mReduction);
+            });
+        }
+        std::optional<RgbaImage> beforeAfter;
+        if (frame.images.size() == 4 * wallCount) {
+            tasks.emplace_back([&] {
+                checkCancel();
+                std::map<WallName, RgbaImage> before, after;
+                for (std::size_t w = 0; w < wallCount; ++w) {
+                    before[walls[w].name] = downsampled(toRgba(std::move(frame.images[2 * wallCount + w])), mReduction);
+                    after[walls[w].name] = downsampled(toRgba(std::move(frame.images[3 * wallCount + w])), mReduction);
+                }
+                const Display sheetDisplay = scaledDisplay(mJob.display, mReduction);
+                beforeAfter = sideBySide({crossLayout(sheetDisplay, before), crossLayout(sheetDisplay, after)}, 16);
+                writePng((partial / "before_after.png").string(), beforeAfter->width, beforeAfter->height,
+                         beforeAfter->rgba, true, mJob.png);
+            });
+        }
+        runParallel(tasks, mThreads);
+        checkCancel();
+
+        // The review sheet: left eye, right eye, anaglyph.
+        std::map<Eye, std::map<WallName, RgbaImage>> sheetWalls;
+        for (std::size_t i = 0; i < 2 * wallCount; ++i) {
+            sheetWalls[kStereoEyes[i / wallCount]][walls[i % wallCount].name] = std::move(reduced[i]);
+        }
+        std::map<WallName, RgbaImage> anaglyph;
+        for (const auto& [name, left] : sheetWalls[Eye::Left]) {
+            anaglyph[name] = anaglyphOf(left, sheetWalls[Eye::Right].at(name));
+        }
+        const Display sheetDisplay = scaledDisplay(mJob.display, mReduction);
+        const RgbaImage sheet = sideBySide({crossLayout(sheetDisplay, sheetWalls[Eye::Left]),
+                                            crossLayout(sheetDisplay, sheetWalls[Eye::Right]),
+                                            crossLayout(sheetDisplay, anaglyph)},
+                                           16);
+        writePng((partial / "sheet.png").string(), sheet.width, sheet.height, sheet.rgba, true, mJob.png);
+    }
+
+    const SequenceJob& mJob;
+    fs::path mFolder;
+    const SequenceHooks& mHooks;
+    int mReduction;
+    unsigned mThreads;
+};
+
+std::string modeText(RenderMode mode) { return mode == RenderMode::Composite ? "composite" : "iso"; }
+std::string filterText(VolumeFilter filter) { return filter == VolumeFilter::Tricubic ? "tricubic" : "trilinear"; }
+std::string warpText(WarpMode warp) {
+    return warp == WarpMode::Exact ? "exact" : warp == WarpMode::Chord ? "chord" : "none";
+}
+
+}  // namespace
+
+std::vector<WallImage> renderWalls(Raycaster& raycaster, const Display& display, const ScenePose& pose,
+                                   std::span<const Eye> eyes, const RenderSettings& settings, WarpMode warpMode) {
+    validateDisplay(display);
+    const std::vector<RenderRequest> requests = wallRequests(display, pose, eyes, settings, warpMode);
+    RenderBatch batch = raycaster.submit(requests);
+    std::vector<RenderedImage> rendered = raycaster.collect(batch);
+    std::vector<WallImage> images;
+    std::size_t i = 0;
+    for (Eye eye : eyes) {
+        for (const auto& wall : display.walls) images.push_back({eye, wall.name, std::move(rendered[i++])});
+    }
+    return images;
+}
+
+std::string frameFolderName(int index) {
+    std::ostringstream name;
+    name << "frame_" << std::setw(4) << std::setfill('0') << index;
+    return name.str();
+}
+
+void checkSequenceOutput(const SequenceJob& job, const SequenceOutput& output) {
+    const fs::path folder(output.folder);
+    if (fs::exists(folder) && !fs::is_directory(folder)) {
+        throw std::runtime_error(output.folder + ": exists and is not a folder");
+    }
+    if (!fs::exists(folder) || fs::is_empty(folder)) return;
+    if (output.isResumed) {
+        const fs::path manifestPath = folder / "render.json";
+        if (!fs::exists(manifestPath)) {
+            throw std::runtime_error(output.folder + ": holds no render.json, so there is nothing to resume");
+        }
+        if (comparablePart(readText(manifestPath)) != comparablePart(sequenceManifest(job))) {
+            throw std::runtime_error(output.folder + ": was rendered with other inputs or settings (see its "
+                                     "render.json); pass --force to replace it");
+        }
+    } else if (!output.isForced) {
+        throw std::runtime_error(output.folder +
+                                 ": exists and is not empty (pass --resume to continue it or --force to replace it)");
+    }
+}
+
+std::string sequenceManifest(const SequenceJob& job) {
+    const RenderSettings& s = job.settings;
+    nlohmann::json manifest;
+    manifest["volume"] = job.volumePath.empty() ? "" : fs::absolute(job.volumePath).string();
+    manifest["display"] = nlohmann::json::parse(displayJson(job.display));
+    manifest["map"] = job.mapSource;
+    manifest["warp"] = warpText(job.warpMode);
+    manifest["mm_per_metre"] = job.mmPerMetre;
+    manifest["before_after"] = job.isWritingBeforeAfter;
+    manifest["hits"] = job.isWritingHits;
+    manifest["settings"] = {{"mode", modeText(s.mode)},
+                            {"iso_hu", s.isoHu},
+                            {"transfer_function", s.transferFunction},
+                            {"step_voxels", s.stepVoxels},
+                            {"refinement_steps", s.refinementSteps},
+                            {"filter", filterText(s.filter)},
+                            {"skipping", s.isSkipping},
+                            {"skip_cell_voxels", s.skipCellVoxels},
+                            {"adaptive", s.isAdaptive},
+                            {"early_termination", s.earlyTerminationOpacity},
+                            {"jitter", s.isJittered},
+                            {"jitter_seed", s.jitterSeed},
+                            {"light_half_distance_mm", s.lightHalfDistanceMm}};
+    nlohmann::json poses = nlohmann::json::array();
+    for (const auto& pose : job.poses) {
+        poses.push_back({{"position_mm", {pose.positionMm.x, pose.positionMm.y, pose.positionMm.z}},
+                         {"forward", {pose.forward.x, pose.forward.y, pose.forward.z}},
+                         {"up", {pose.up.x, pose.up.y, pose.up.z}}});
+    }
+    manifest["poses"] = poses;
+    manifest["renderer"] = job.rendererDescription;
+    return manifest.dump(2) + "\n";
+}
+
+SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, const SequenceOutput& output,
+                               const SequenceHooks& hooks) {
+    validateDisplay(job.display);
+    checkSequenceOutput(job, output);
+    prepareFolder(sequenceManifest(job), output);
+    const fs::path folder(output.folder);
+    const auto start = std::chrono::steady_clock::now();
+
+    const int total = static_cast<int>(job.poses.size());
+    std::vector<int> pending;
+    for (int i = 0; i < total; ++i) {
+        if (!fs::is_directory(folder / frameFolderName(i))) pending.push_back(i);
+    }
+    SequenceSummary summary;
+    summary.framesKept = total - static_cast<int>(pending.size());
+    int done = summary.framesKept;
+    if (hooks.onProgress) hooks.onProgress(done, total);
+
+    RenderSettings stereoSettings = job.settings;
+    stereoSettings.isWritingHits = job.isWritingHits;
+    RenderSettings sheetSettings = job.settings;
+    sheetSettings.isWritingHits = false;
+    const bool isWritingBeforeAfter = job.isWritingBeforeAfter && job.display.map != conformal::MapKind::None;
+    const std::size_t stereoCount = 2 * job.display.walls.size();
+    FrameWriter writer(job, folder, hooks);
+    const auto checkCancel = [&] {
+        if (hooks.isCancelled && hooks.isCancelled()) throw SequenceCancelled("cancelled");
+    };
+
+    // The device renders frame i while the host writes frame i - 1.
+    const auto submitFrame = [&](int index) {
+        const ScenePose pose = scenePoseOf(job, index);
+        std::vector<RenderRequest> requests = wallRequests(job.display, pose, kStereoEyes, stereoSettings, job.warpMode);
+        if (isWritingBeforeAfter) {
+            const Eye centre[] = {Eye::Centre};
+            for (WarpMode warp : {WarpMode::None, job.warpMode}) {
+                auto more = wallRequests(job.display, pose, centre, sheetSettings, warp);
+                requests.insert(requests.end(), more.begin(), more.end());
+            }
+        }
+        FrameInFlight frame;
+        frame.index = index;
+        frame.batch.emplace(raycaster.submit(requests));
+        return frame;
+    };
+    const auto collectFrame = [&](FrameInFlight& frame) {
+        frame.images = raycaster.collect(*frame.batch);
+        frame.batch.reset();
+        for (std::size_t i = 0; i < stereoCount; ++i) summary.rayCastingMs += std::max(frame.images[i].deviceMs, 0.0);
+        if (hooks.onFrame) {
+            std::vector<WallImage> walls;
+            std::size_t i = 0;
+            for (Eye eye : kStereoEyes) {
+                for (const auto& wall : job.display.walls) walls.push_back({eye, wall.name, frame.images[i++]});
+            }
+            hooks.onFrame(frame.index, walls);
+        }
+    };
+    const auto writeFrame = [&](FrameInFlight& frame) {
+        writer.write(frame);
+        ++done;
+        ++summary.framesRendered;
+        if (hooks.onProgress) hooks.onProgress(done, total);
+    };
+
+    std::unique_ptr<FrameInFlight> ready;  // collected, not yet written
+    for (int index : pending) {
+        checkCancel();
+        auto next = std::make_unique<FrameInFlight>(submitFrame(index));
+        if (ready) writeFrame(*ready);
+        collectFrame(*next);
+        ready = std::move(next);
+    }
+    if (ready) writeFrame(*ready);
+    summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return summary;
+}
+
+}  // namespace engine

@@ -1,0 +1,103 @@
+/// @brief Rendering a display along a sequence of poses: every wall for both eyes, in memory or
+/// into an output folder with review sheets, hit images, resumption and protection of existing
+/// output. The command line adds only parsing, a progress bar and Ctrl-C.
+#pragma once
+
+#include <functional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "engine/display/camera_path.h"
+#include "engine/display/display.h"
+#include "engine/output/png_writer.h"
+#include "engine/render/raycaster.h"
+
+namespace engine {
+
+/// One rendered wall image of a frame.
+struct WallImage {
+    Eye eye = Eye::Centre;
+    WallName wall = WallName::Front;
+    RenderedImage image;  // hitMm filled when the settings ask for hits
+};
+
+/// Renders every wall of `display` for each of `eyes` at `pose` in one submission and returns
+/// them eye after eye, walls in the display's order. This is the in-memory form of a frame
+/// that coverage and measurement use; renderSequence writes the same images to files.
+std::vector<WallImage> renderWalls(Raycaster& raycaster, const Display& display, const ScenePose& pose,
+                                   std::span<const Eye> eyes, const RenderSettings& settings, WarpMode warpMode);
+
+/// Raised when the caller's cancel hook asked to stop; finished frames are kept.
+class SequenceCancelled : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct SequenceJob {
+    std::string volumePath;  // recorded in the manifest
+    Display display;
+    std::vector<CameraPose> poses;
+    double mmPerMetre = 10.0;
+    RenderSettings settings;
+    WarpMode warpMode = WarpMode::Chord;
+    std::string mapSource;              // how the map was obtained (cache, a file): recorded in the manifest
+    bool isWritingBeforeAfter = false;  // also the centre eye's walls without and with the map
+    bool isWritingHits = false;         // frame_NNNN/EYE/WALL_hits.nrrd beside each wall's PNG
+    PngEncoding png = kFastPngEncoding; // see png_writer.h
+    std::string rendererDescription;    // device and driver, recorded in the manifest but not compared on resume
+};
+
+struct SequenceOutput {
+    std::string folder;
+    bool isForced = false;   // replace what an earlier render left there
+    bool isResumed = false;  // keep finished frames and render the rest
+};
+
+/// What the caller learns while the sequence runs. Either may be empty.
+struct SequenceHooks {
+    /// Polled before each frame is submitted and before each image is written; returning true
+    /// stops the run with SequenceCancelled (the frame being written is discarded).
+    std::function<bool()> isCancelled;
+    /// Called once at the start (frames already finished) and after each finished frame.
+    std::function<void(int framesDone, int framesTotal)> onProgress;
+    /// Called with each frame's stereo wall images (hits included when asked for) before they
+    /// are written, so an analysis can use them without reading files back.
+    std::function<void(int frameIndex, const std::vector<WallImage>& images)> onFrame;
+};
+
+/// What one run did, for the summary line.
+struct SequenceSummary {
+    int framesRendered = 0;
+    int framesKept = 0;
+    double seconds = 0.0;
+    double rayCastingMs = 0.0;  // device time of the stereo wall images' dispatches (before/after excluded)
+};
+
+/// The manifest (render.json) of `job`: everything that determines the images, so that
+/// --resume can refuse a changed request.
+std::string sequenceManifest(const SequenceJob& job);
+
+/// Throws std::runtime_error when `output` cannot take `job`: the folder holds output already and
+/// neither isForced nor isResumed is set, a resumed folder was made with another manifest, or
+/// the path is not a folder. renderSequence checks this too; a caller may check first, before
+/// loading a large volume.
+void checkSequenceOutput(const SequenceJob& job, const SequenceOutput& output);
+
+/// Writes folder/render.json (the manifest), then for each pose
+/// folder/frame_NNNN/{left,right}/<wall>.png (and <wall>_hits.nrrd on request) and
+/// folder/frame_NNNN/sheet.png (the walls as a cross for the left eye, the right eye and a
+/// red-cyan anaglyph), plus before_after.png on request. A frame is rendered into a hidden
+/// folder and renamed when complete, so a cancelled or failed run leaves only whole frames.
+/// Each frame is one submission; the previous frame's images are encoded on worker threads
+/// while the device renders the next. Throws std::runtime_error when the folder holds output
+/// already and neither isForced nor isResumed is set, or when a resumed folder was made with
+/// another manifest; SequenceCancelled when the hook asked to stop.
+SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, const SequenceOutput& output,
+                               const SequenceHooks& hooks = {});
+
+/// The folder name of frame `index`: frame_0000, frame_0001, ...
+std::string frameFolderName(int index);
+
+}  // namespace engine

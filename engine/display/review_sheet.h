@@ -1,0 +1,39 @@
+/// @brief Review sheets: a display's walls unfolded as a cross, eyes side by side, and a
+/// red-cyan anaglyph, composed from rendered wall images.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include "engine/display/display.h"
+
+namespace engine {
+
+/// An 8-bit RGBA image, row 0 at the top.
+struct RgbaImage {
+    int width = 0;
+    int height = 0;
+    std::vector<uint8_t> rgba;
+};
+
+/// An image of `width` x `height` filled with one colour.
+RgbaImage filledImage(int width, int height, uint8_t r, uint8_t g, uint8_t b);
+
+/// Box-filter reduction by an integer factor (the last partial blocks are averaged too).
+RgbaImage downsampled(const RgbaImage& image, int factor);
+
+/// Half-colour red-cyan anaglyph: red carries the left eye's luminance, green and blue the
+/// right eye's own green and blue, which keeps colour while avoiding retinal rivalry in red.
+/// Throws std::invalid_argument when the sizes differ.
+RgbaImage anaglyphOf(const RgbaImage& left, const RgbaImage& right);
+
+/// The walls laid out as an unfolded cube seen from inside: left, front, right, back in a row,
+/// the ceiling above the front wall and the floor below it. Walls the display lacks (or that
+/// `walls` does not hold) stay dark. Each wall is placed at its own pixel size.
+RgbaImage crossLayout(const Display& display, const std::map<WallName, RgbaImage>& walls);
+
+/// Images placed left to right with `gap` dark pixels between them, top-aligned.
+RgbaImage sideBySide(const std::vector<RgbaImage>& images, int gap);
+
+}  // namespace engine

@@ -1,0 +1,85 @@
+#include "engine/output/hit_image_writer.h"
+
+#include <bit>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <limits>
+#include <vector>
+
+#include <zlib.h>
+
+namespace engine {
+namespace {
+
+void checkHitImage(const std::string& path, int width, int height, std::span<const float> hitMm, bool overwrite) {
+    if (width < 1 || height < 1 || hitMm.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4) {
+        throw std::invalid_argument(path + ": hit image does not hold " + std::to_string(width) + "x" +
+                                    std::to_string(height) + " 4-vectors");
+    }
+    if (!overwrite && std::filesystem::exists(path)) {
+        throw std::runtime_error(path + ": exists already (pass --force to replace it)");
+    }
+}
+
+/// `bytes` as one gzip member (zlib's deflate with a gzip wrapper), at zlib level 1: the
+/// positions of neighbouring pixels differ in every bit, so harder levels gain little.
+std::vector<unsigned char> gzipped(std::span<const std::byte> bytes) {
+    z_stream stream{};
+    if (deflateInit2(&stream, 1, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
+        throw std::runtime_error("cannot start the gzip compressor");
+    }
+    std::vector<unsigned char> out(deflateBound(&stream, static_cast<uLong>(bytes.size())));
+    stream.next_in = reinterpret_cast<Bytef*>(const_cast<std::byte*>(bytes.data()));
+    stream.avail_in = static_cast<uInt>(bytes.size());
+    stream.next_out = out.data();
+    stream.avail_out = static_cast<uInt>(out.size());
+    const int result = deflate(&stream, Z_FINISH);
+    out.resize(stream.total_out);
+    deflateEnd(&stream);
+    if (result != Z_STREAM_END) throw std::runtime_error("gzip compression failed");
+    return out;
+}
+
+}  // namespace
+
+void writeHitPositionsNrrd(const std::string& path, int width, int height, std::span<const float> hitMm,
+                           bool overwrite) {
+    static_assert(std::endian::native == std::endian::little, "the writer assumes a little-endian host");
+    checkHitImage(path, width, height, hitMm, overwrite);
+    const std::size_t pixels = hitMm.size() / 4;
+    if (pixels * 12 > std::numeric_limits<uInt>::max() / 2) throw std::invalid_argument(path + ": hit image too large");
+    std::vector<float> xyz(pixels * 3);
+    const float miss = std::numeric_limits<float>::quiet_NaN();
+    for (std::size_t i = 0; i < pixels; ++i) {
+        const bool isHit = hitMm[4 * i + 3] > 0.0f;
+        for (std::size_t c = 0; c < 3; ++c) xyz[3 * i + c] = isHit ? hitMm[4 * i + c] : miss;
+    }
+    const std::vector<unsigned char> payload = gzipped(std::as_bytes(std::span(xyz)));
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path + ": cannot open for writing (" + std::strerror(errno) + ")");
+    out << "NRRD0004\n"
+        << "# first-hit positions in volume millimetres (x, y, z); NaN where the ray missed\n"
+        << "type: float\ndimension: 3\nsizes: 3 " << width << ' ' << height << '\n'
+        << "kinds: 3-vector domain domain\nendian: little\nencoding: gzip\n\n";
+    out.write(reinterpret_cast<const char*>(payload.data()), static_cast<std::streamsize>(payload.size()));
+    if (!out) throw std::runtime_error(path + ": write failed (disk full?)");
+}
+
+void writeHitImageNrrd(const std::string& path, int width, int height, std::span<const float> hitMm, bool overwrite) {
+    static_assert(std::endian::native == std::endian::little, "the writer assumes a little-endian host");
+    checkHitImage(path, width, height, hitMm, overwrite);
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path + ": cannot open for writing (" + std::strerror(errno) + ")");
+    out << "NRRD0004\n"
+        << "# first-hit positions in volume millimetres (x, y, z) and a hit flag (1 hit, 0 miss)\n"
+        << "type: float\ndimension: 3\nsizes: 4 " << width << ' ' << height << '\n'
+        << "kinds: 4-vector domain domain\nendian: little\nencoding: raw\n\n";
+    out.write(reinterpret_cast<const char*>(hitMm.data()), static_cast<std::streamsize>(hitMm.size_bytes()));
+    if (!out) throw std::runtime_error(path + ": write failed (disk full?)");
+}
+
+}  // namespace engine

@@ -1,0 +1,375 @@
+#include "engine/render/raycaster.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+#include <stdexcept>
+
+#include "engine/core/command_submission.h"
+#include "engine/render/empty_space_map.h"
+#include "host_device.h"
+#include "raycast_spv.h"
+
+namespace engine {
+
+static_assert(sizeof(shaders::RaycastUniforms) == 20 * 16, "RaycastUniforms must be 20 vec4s (std140)");
+static_assert(offsetof(shaders::RaycastUniforms, march) == 15 * 16, "march must follow the volume block");
+static_assert(offsetof(shaders::RaycastUniforms, frame) == 19 * 16, "frame must be the last vec4");
+
+namespace {
+
+glm::vec4 vec4Of(const glm::dvec3& v, double w = 0.0) { return {glm::vec3(v), static_cast<float>(w)}; }
+
+void validate(const RenderSettings& s) {
+    auto require = [](bool condition, const std::string& what) {
+        if (!condition) throw std::invalid_argument("render settings: " + what);
+    };
+    require(s.stepVoxels >= 0.01 && s.stepVoxels <= 8.0, "step must be 0.01..8 voxels");
+    require(s.skipCellVoxels >= 1 && s.skipCellVoxels <= 64, "skipping cells must be 1..64 voxels");
+    require(s.refinementSteps >= 0 && s.refinementSteps <= 32, "refinement steps must be 0..32");
+    require(std::isfinite(s.isoHu), "iso value must be finite");
+    require(s.minStepVoxels > 0.0 && s.minStepVoxels <= s.maxStepVoxels && s.maxStepVoxels <= 64.0,
+            "adaptive step bounds must satisfy 0 < min <= max <= 64 voxels");
+    require(s.earlyTerminationOpacity > 0.0 && s.earlyTerminationOpacity <= 1.0, "early termination opacity must be in (0, 1]");
+    require(s.lightHalfDistanceMm >= 0.0 && std::isfinite(s.lightHalfDistanceMm), "light half distance must be >= 0");
+    require(s.roughness > 0.0 && s.roughness <= 1.0 && s.fresnel >= 0.0 && s.fresnel <= 1.0 && s.ambient >= 0.0 &&
+                s.ambient <= 1.0,
+            "roughness in (0, 1], Fresnel and ambient in [0, 1]");
+}
+
+}  // namespace
+
+/// Output images and their readback buffers for one image size. The hit image is made on first
+/// use: most renders do not ask for hit positions, and it is four times the colour image.
+struct Raycaster::Targets {
+    Targets(const GpuContext& context, int widthPx, int heightPx)
+        : width(widthPx),
+          height(heightPx),
+          color(context, extent(), vk::Format::eR8G8B8A8Unorm,
+                vk::ImageUsageFlagBits::eStorage | vk::ImageUsageFlagBits::eTransferSrc, "colour image"),
+          colorReadback(context, pixelCount() * 4, vk::BufferUsageFlagBits::eTransferDst, GpuBuffer::Memory::HostVisible,
+                        "colour readback") {}
+
+    void makeHitTargets(const GpuContext& context) {
+        if (hit) return;
+        hit = std::make_unique<GpuImage>(context, extent(), vk::Format::eR32G32B32A32Sfloat,
+                                         vk::ImageUsageFlagBits::eStorage | vk::ImageUsageFlagBits::eTransferSrc,
+                                         "hit position image");
+        hitReadback = std::make_unique<GpuBuffer>(context, pixelCount() * 16, vk::BufferUsageFlagBits::eTransferDst,
+                                                  GpuBuffer::Memory::HostVisible, "hit position readback");
+    }
+
+    [[nodiscard]] vk::Extent3D extent() const {
+        return {static_cast<uint32_t>(width), static_cast<uint32_t>(height), 1};
+    }
+    [[nodiscard]] vk::DeviceSize pixelCount() const {
+        return static_cast<vk::DeviceSize>(width) * static_cast<vk::DeviceSize>(height);
+    }
+
+    int width;
+    int height;
+    GpuImage color;
+    GpuBuffer colorReadback;
+    std::unique_ptr<GpuImage> hit;
+    std::unique_ptr<GpuBuffer> hitReadback;
+};
+
+/// What one image of a batch needs of its own: its uniforms, its timer and its output images
+/// (by size). Slot i uses descriptor set i of every pipeline.
+struct Raycaster::Slot {
+    explicit Slot(const GpuContext& context)
+        : uniforms(context, sizeof(shaders::RaycastUniforms), vk::BufferUsageFlagBits::eUniformBuffer,
+                   GpuBuffer::Memory::HostVisible, "ray-casting uniforms"),
+          timer(context) {}
+
+    Targets& targetsFor(const GpuContext& context, int width, int height) {
+        auto& entry = targets[{width, height}];
+        if (!entry) entry = std::make_unique<Targets>(context, width, height);
+        return *entry;
+    }
+
+    GpuBuffer uniforms;
+    GpuTimer timer;
+    std::map<std::pair<int, int>, std::unique_ptr<Targets>> targets;
+    Targets* current = nullptr;  // the targets of the image this slot holds now
+};
+
+RenderBatch::RenderBatch(RenderBatch&& other) noexcept
+    : mOwner(std::exchange(other.mOwner, nullptr)),
+      mSlots(std::move(other.mSlots)),
+      mIsWritingHits(std::move(other.mIsWritingHits)),
+      mWork(std::move(other.mWork)) {
+    other.mWork.reset();
+}
+
+RenderBatch::~RenderBatch() {
+    mWork.reset();  // waits for the device before the slots can be reused
+    if (mOwner) mOwner->releaseSlots(mSlots);
+}
+
+Raycaster::Raycaster(const GpuContext& context, const volumes::Volume& volume, const VolumeTexture& texture,
+                     const volumes::BrickMinMax& bricks)
+    : mContext(&context),
+      mVolumeData(&volume),
+      mVolume(&texture),
+      mBricks(&bricks),
+      mCubeMap(makeIdentityCubeMapTexture(context)),
+      mNoHitImage(context, vk::Extent3D(1, 1, 1), vk::Format::eR32G32B32A32Sfloat, vk::ImageUsageFlagBits::eStorage,
+                  "unused hit position image") {
+    if (volume.dims != texture.dims() || bricks.brickSize != volumes::kBrickSize ||
+        bricks.brickDims != volumes::brickDimsFor(volume.dims)) {
+        throw std::invalid_argument("volume, texture and brick min/max do not belong together");
+    }
+    submitAndWait(context, [&](const vk::raii::CommandBuffer& commands) {
+        recordImageBarrier(commands, mNoHitImage, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);
+    });
+}
+
+Raycaster::~Raycaster() = default;
+
+void Raycaster::setCubeMap(int size, std::span<const float> rgba) {
+    mCubeMap = makeCubeMapTexture(*mContext, size, rgba);
+    mHasCubeMap = true;
+}
+
+ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode warp) {
+    const int32_t mode = settings.mode == RenderMode::Composite ? CVC_MODE_COMPOSITE : CVC_MODE_ISO;
+    const int32_t filter = settings.filter == VolumeFilter::Tricubic ? CVC_FILTER_TRICUBIC : CVC_FILTER_TRILINEAR;
+    const int32_t warpId = warp == WarpMode::Exact ? CVC_WARP_EXACT : warp == WarpMode::Chord ? CVC_WARP_CHORD : CVC_WARP_NONE;
+    const PipelineKey key{mode, filter, warpId, settings.isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0,
+                          settings.isCountingFetches ? 1 : 0};
+    auto& slot = mPipelines[key];
+    if (!slot) {
+        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_COUNT_FETCHES.
+        const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key)};
+        slot = std::make_unique<ComputePipeline>(
+            *mContext, raycast_spv,
+            std::vector<vk::DescriptorType>{vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eCombinedImageSampler,
+                                            vk::DescriptorType::eStorageImage, vk::DescriptorType::eStorageImage,
+                                            vk::DescriptorType::eCombinedImageSampler,
+                                            vk::DescriptorType::eCombinedImageSampler,
+                                            vk::DescriptorType::eCombinedImageSampler},
+            0, "ray caster", constants, static_cast<uint32_t>(kMaxImagesInFlight));
+    }
+    return *slot;
+}
+
+const SampledTexture& Raycaster::transferTextureFor(const std::string& name) {
+    auto found = mTransferTextures.find(name);
+    if (found == mTransferTextures.end()) {
+        const TransferTable table = tabulate(transferFunctionPreset(name));
+        found = mTransferTextures.emplace(name, makeTransferTexture(*mContext, table)).first;
+        mTransferTables.emplace(name, table);
+    }
+    return found->second;
+}
+
+const SampledTexture& Raycaster::skipDistanceFor(const RenderSettings& settings) {
+    std::ostringstream key;
+    key.precision(17);
+    key << settings.skipCellVoxels << ':';
+    if (settings.mode == RenderMode::IsoSurface) {
+        key << "iso:" << settings.isoHu;
+    } else {
+        key << "tf:" << settings.transferFunction;
+    }
+    auto found = mSkipDistances.find(key.str());
+    if (found == mSkipDistances.end()) {
+        const int cell = settings.skipCellVoxels;
+        if (cell != volumes::kBrickSize && !mFinerCells.count(cell)) {
+            mFinerCells.emplace(cell, volumes::buildBrickMinMax(*mVolumeData, cell));
+        }
+        const volumes::BrickMinMax& cells = cell == volumes::kBrickSize ? *mBricks : mFinerCells.at(cell);
+        // A cell is occupied when any sample in it could stop the ray: for an iso-surface, when
+        // its maximum reaches the iso value. Cells wholly inside tissue count too: a step longer
+        // than the thin layer of cells that straddle the iso value can land in one, and the
+        // unskipped ray would stop there.
+        const double iso = settings.isoHu;
+        const std::vector<uint8_t> occupied =
+            settings.mode == RenderMode::IsoSurface
+                ? volumes::bricksForPredicate(cells, [iso](int16_t, int16_t maxHu) { return maxHu >= iso; })
+                : volumes::bricksForOpacity(cells, opacityTableOf(mTransferTables.at(settings.transferFunction)));
+        found = mSkipDistances
+                    .emplace(key.str(), makeSkipDistanceTexture(*mContext, cells.brickDims,
+                                                                chebyshevDistanceMap(occupied, cells.brickDims)))
+                    .first;
+    }
+    return found->second;
+}
+
+void Raycaster::validateRequest(const RenderRequest& request) const {
+    validate(request.settings);
+    const ViewRays& rays = request.rays;
+    if (rays.width < 1 || rays.height < 1 || rays.width > kMaxImageSide || rays.height > kMaxImageSide) {
+        throw std::invalid_argument("image size " + std::to_string(rays.width) + "x" + std::to_string(rays.height) +
+                                    " is outside 1.." + std::to_string(kMaxImageSide));
+    }
+    (void)wallNormalOf(rays);  // throws for a degenerate image plane
+    if (request.warp.mode != WarpMode::None && !mHasCubeMap) {
+        throw std::logic_error("a warped render needs setCubeMap first");
+    }
+}
+
+RenderedImage Raycaster::render(const ViewRays& rays, const RenderSettings& settings, const Warp& warp) {
+    const RenderRequest request{rays, settings, warp};
+    RenderBatch batch = submit(std::span(&request, 1));
+    return std::move(collect(batch).front());
+}
+
+RenderBatch Raycaster::submit(std::span<const RenderRequest> requests) {
+    for (const auto& request : requests) validateRequest(request);
+    const auto busy = static_cast<std::size_t>(std::count(mIsSlotBusy.begin(), mIsSlotBusy.end(), true));
+    if (busy + requests.size() > static_cast<std::size_t>(kMaxImagesInFlight)) {
+        throw std::logic_error("more than " + std::to_string(kMaxImagesInFlight) +
+                               " images submitted and not collected");
+    }
+    RenderBatch batch;
+    batch.mOwner = this;
+    for (const auto& request : requests) {
+        std::size_t index = 0;
+        while (index < mIsSlotBusy.size() && mIsSlotBusy[index]) ++index;
+        if (index == mSlots.size()) {
+            mSlots.push_back(std::make_unique<Slot>(*mContext));
+            mIsSlotBusy.push_back(false);
+        }
+        mIsSlotBusy[index] = true;
+        batch.mSlots.push_back(static_cast<int>(index));
+        batch.mIsWritingHits.push_back(request.settings.isWritingHits);
+    }
+    // Textures, maps and pipelines are made before recording (each may submit uploads itself).
+    for (std::size_t i = 0; i < requests.size(); ++i) {
+        const RenderSettings& settings = requests[i].settings;
+        transferTextureFor(settings.mode == RenderMode::Composite ? settings.transferFunction : "colon-wall");
+        skipDistanceFor(settings);
+        pipelineFor(settings, requests[i].warp.mode);
+    }
+    batch.mWork.emplace(*mContext, [&](const vk::raii::CommandBuffer& commands) {
+        recordImageBarrier(commands, mNoHitImage, vk::ImageLayout::eGeneral, vk::ImageLayout::eGeneral);
+        for (std::size_t i = 0; i < requests.size(); ++i) recordRequest(commands, requests[i], batch.mSlots[i]);
+    });
+    return batch;
+}
+
+std::vector<RenderedImage> Raycaster::collect(RenderBatch& batch) {
+    if (batch.mOwner != this || !batch.mWork) throw std::logic_error("collect() of a batch this ray caster did not submit");
+    batch.mWork->wait();
+    std::vector<RenderedImage> images;
+    images.reserve(batch.mSlots.size());
+    for (std::size_t i = 0; i < batch.mSlots.size(); ++i) {
+        Slot& slot = *mSlots[static_cast<std::size_t>(batch.mSlots[i])];
+        Targets& targets = *slot.current;
+        RenderedImage image;
+        image.width = targets.width;
+        image.height = targets.height;
+        image.rgba.resize(static_cast<std::size_t>(targets.pixelCount()) * 4);
+        targets.colorReadback.read(std::as_writable_bytes(std::span(image.rgba)));
+        if (batch.mIsWritingHits[i]) {
+            image.hitMm.resize(static_cast<std::size_t>(targets.pixelCount()) * 4);
+            targets.hitReadback->read(std::as_writable_bytes(std::span(image.hitMm)));
+        }
+        image.deviceMs = slot.timer.elapsedMs();
+        images.push_back(std::move(image));
+    }
+    batch.mWork.reset();
+    releaseSlots(batch.mSlots);
+    batch.mSlots.clear();
+    batch.mOwner = nullptr;
+    return images;
+}
+
+void Raycaster::releaseSlots(const std::vector<int>& slots) {
+    for (int index : slots) mIsSlotBusy[static_cast<std::size_t>(index)] = false;
+}
+
+void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex) {
+    const ViewRays& rays = request.rays;
+    const RenderSettings& settings = request.settings;
+    const Warp& warp = request.warp;
+    const auto set = static_cast<uint32_t>(slotIndex);
+    Slot& slot = *mSlots[static_cast<std::size_t>(slotIndex)];
+    Targets& targets = slot.targetsFor(*mContext, rays.width, rays.height);
+    slot.current = &targets;
+    if (settings.isWritingHits) targets.makeHitTargets(*mContext);
+    const GpuImage& hitImage = settings.isWritingHits ? *targets.hit : mNoHitImage;
+
+    const std::string& transferName = settings.mode == RenderMode::Composite ? settings.transferFunction : "colon-wall";
+    const SampledTexture& transfer = transferTextureFor(transferName);
+    const TransferTable& table = mTransferTables.at(transferName);
+    const SampledTexture& skipDistance = skipDistanceFor(settings);
+    ComputePipeline& pipeline = pipelineFor(settings, warp.mode);
+    pipeline.bindBuffer(CVC_BINDING_UNIFORMS, slot.uniforms, set);
+    pipeline.bindSampledImage(CVC_BINDING_VOLUME, mVolume->image(), mVolume->sampler(), set);
+    pipeline.bindStorageImage(CVC_BINDING_COLOR_IMAGE, targets.color, set);
+    pipeline.bindStorageImage(CVC_BINDING_HIT_IMAGE, hitImage, set);
+    pipeline.bindSampledImage(CVC_BINDING_SKIP_DISTANCE, skipDistance.image, skipDistance.sampler, set);
+    pipeline.bindSampledImage(CVC_BINDING_TRANSFER_FUNCTION, transfer.image, transfer.sampler, set);
+    pipeline.bindSampledImage(CVC_BINDING_CUBE_MAP, mCubeMap.image, mCubeMap.sampler, set);
+
+    const glm::dvec3 wallNormal = wallNormalOf(rays);
+    // Geometry of the volume: the box spans the voxels' outer faces, half a voxel beyond the centres.
+    const auto dims = glm::dvec3(mVolume->dims()[0], mVolume->dims()[1], mVolume->dims()[2]);
+    const glm::dvec3 spacing = mVolume->spacingMm();
+    const double minSpacing = std::min({spacing.x, spacing.y, spacing.z});
+    const glm::dvec3 boxMin = -0.5 * spacing;
+    const glm::dvec3 boxMax = (dims - 0.5) * spacing;
+    const double stepMm = settings.stepVoxels * minSpacing;
+    const double minStepMm = settings.isAdaptive ? std::min(stepMm, settings.minStepVoxels * minSpacing) : stepMm;
+    // Bound on a ray's steps: the longest segment any mode marches, over the shortest step.
+    const double reachMm = 2.0 * glm::length(boxMax - boxMin) + 2.0 * glm::length(rays.eyeMm - 0.5 * (boxMin + boxMax)) +
+                           2.0 * glm::length(rays.eyeMm - warp.mapCentreMm) + rays.nearMm;
+    const double maxSteps = std::min(std::ceil(reachMm / minStepMm) + 16.0, 1.0e7);
+    const double halfDistance = settings.lightHalfDistanceMm;
+    const auto entries = static_cast<double>(table.rgba.size());
+
+    shaders::RaycastUniforms u{};
+    u.eyeMm = vec4Of(rays.eyeMm, rays.nearMm);
+    u.wallOriginMm = vec4Of(rays.wallOriginMm);
+    u.wallUMm = vec4Of(rays.wallUMm);
+    u.wallVMm = vec4Of(rays.wallVMm);
+    u.wallNormal = vec4Of(wallNormal);
+    u.mapCentreMm = vec4Of(warp.mapCentreMm);
+    u.caveToVolume0 = vec4Of(warp.caveToVolume[0]);
+    u.caveToVolume1 = vec4Of(warp.caveToVolume[1]);
+    u.caveToVolume2 = vec4Of(warp.caveToVolume[2]);
+    u.boxMinMm = vec4Of(boxMin);
+    u.boxMaxMm = vec4Of(boxMax);
+    u.texFromMmScale = vec4Of(1.0 / (dims * spacing));
+    u.texFromMmOffset = vec4Of(0.5 / dims);
+    u.volumeDims = vec4Of(dims, settings.skipCellVoxels);
+    u.invSpacingMm = vec4Of(1.0 / spacing);
+    u.march = glm::vec4(static_cast<float>(stepMm), static_cast<float>(settings.isoHu),
+                        static_cast<float>(settings.refinementSteps), static_cast<float>(maxSteps));
+    u.adaptive = glm::vec4(static_cast<float>(minStepMm), static_cast<float>(settings.maxStepVoxels * minSpacing),
+                           static_cast<float>(pixelAngleOf(rays)), static_cast<float>(settings.earlyTerminationOpacity));
+    u.transfer = glm::vec4(static_cast<float>(table.firstHu),
+                           static_cast<float>((entries - 1.0) / (entries * (table.lastHu - table.firstHu))),
+                           1.0f, static_cast<float>(0.5 / entries));
+    u.shading = glm::vec4(halfDistance > 0.0 ? static_cast<float>(1.0 / (halfDistance * halfDistance)) : 0.0f,
+                          static_cast<float>(settings.roughness), static_cast<float>(settings.fresnel),
+                          static_cast<float>(settings.ambient));
+    u.frame = glm::uvec4(static_cast<uint32_t>(rays.width), static_cast<uint32_t>(rays.height), settings.jitterSeed,
+                         (settings.isWritingHits ? CVC_FLAG_WRITE_HITS : 0u) | (settings.isJittered ? CVC_FLAG_JITTER : 0u));
+    slot.uniforms.write(std::as_bytes(std::span(&u, 1)));
+
+    recordImageBarrier(commands, targets.color, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);
+    if (settings.isWritingHits) {
+        recordImageBarrier(commands, *targets.hit, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);
+    }
+    slot.timer.recordStart(commands);
+    const auto groups = [](int n) { return static_cast<uint32_t>((n + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE); };
+    pipeline.recordDispatch(commands, vk::Extent3D(groups(rays.width), groups(rays.height), 1), {}, set);
+    slot.timer.recordEnd(commands);
+    recordImageBarrier(commands, targets.color, vk::ImageLayout::eGeneral, vk::ImageLayout::eTransferSrcOptimal);
+    const vk::ImageSubresourceLayers layers(vk::ImageAspectFlagBits::eColor, 0, 0, 1);
+    const vk::BufferImageCopy region(0, 0, 0, layers, vk::Offset3D(0, 0, 0), targets.extent());
+    commands.copyImageToBuffer(*targets.color.image(), vk::ImageLayout::eTransferSrcOptimal,
+                               *targets.colorReadback.buffer(), region);
+    if (settings.isWritingHits) {
+        recordImageBarrier(commands, *targets.hit, vk::ImageLayout::eGeneral, vk::ImageLayout::eTransferSrcOptimal);
+        commands.copyImageToBuffer(*targets.hit->image(), vk::ImageLayout::eTransferSrcOptimal,
+                                   *targets.hitReadback->buffer(), region);
+    }
+}
+
+}  // namespace engine

@@ -1,0 +1,167 @@
+/// @brief The ray caster: renders one image (a wall for one eye, or a pinhole view) of a
+/// volume in one compute dispatch, with the features chosen per call.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "engine/core/command_submission.h"
+#include "engine/core/compute_pipeline.h"
+#include "engine/core/gpu_context.h"
+#include "engine/render/sampled_textures.h"
+#include "engine/render/view_rays.h"
+#include "engine/render/volume_texture.h"
+#include "volumes/brick_minmax.h"
+
+namespace engine {
+
+enum class RenderMode { IsoSurface, Composite };
+enum class VolumeFilter { Trilinear, Tricubic };
+/// How rays are bent: not at all; by mapping a ray's near and far points and marching the
+/// chord between them (paper Eq. 7, exact for an eye at the map centre); or by mapping every
+/// sample (the reference the chord is measured against for stereo eyes).
+enum class WarpMode { None, Chord, Exact };
+
+struct RenderSettings {
+    RenderMode mode = RenderMode::IsoSurface;
+    double isoHu = -500.0;                        // iso-surface mode: the air / soft-tissue boundary
+    std::string transferFunction = "colon-wall";  // composite mode: a preset name
+    double stepVoxels = 0.5;                      // base step, in units of the smallest voxel side
+    int refinementSteps = 6;                      // iso mode: bisection steps; 0 = the raw sample
+    VolumeFilter filter = VolumeFilter::Trilinear;
+    bool isSkipping = true;                       // empty-space skipping over a distance map
+    int skipCellVoxels = 2;                       // cell edge of that map, voxels (8: the 8^3 bricks)
+    bool isAdaptive = false;                      // lengthen steps where a pixel covers > 1 voxel
+    double minStepVoxels = 0.25;                  // adaptive step bounds
+    double maxStepVoxels = 4.0;
+    double earlyTerminationOpacity = 0.98;        // composite mode
+    bool isJittered = false;                      // offset each ray's start by a hashed fraction
+    uint32_t jitterSeed = 0;
+    double lightHalfDistanceMm = 0.0;             // the headlight is half as bright here; 0: no falloff
+    double roughness = 0.45;                      // Cook-Torrance
+    double fresnel = 0.04;
+    double ambient = 0.10;
+    bool isWritingHits = true;                    // fill RenderedImage::hitMm
+    bool isCountingFetches = false;               // benchmarks: hitMm's w = volume fetches per ray
+};
+
+/// The warp of space about the map centre (DESIGN.md "Rays"), in volume millimetres.
+struct Warp {
+    WarpMode mode = WarpMode::None;
+    glm::dvec3 mapCentreMm{0.0};
+    glm::dmat3 caveToVolume{1.0};  // columns: the CAVE's x, y, z axes as unit volume vectors
+};
+
+/// One rendered image: 8-bit RGBA colour and, per pixel, the first-hit position in volume
+/// millimetres (xyz) with w = 1 for a hit, 0 for a miss. Row 0 is the top of the image.
+/// Composite mode's hit is where the accumulated opacity first reaches 0.5.
+struct RenderedImage {
+    int width = 0;
+    int height = 0;
+    std::vector<uint8_t> rgba;
+    std::vector<float> hitMm;  // 4 floats per pixel; empty when hits were not asked for
+    double deviceMs = -1.0;    // time of the ray-casting dispatch on the device; < 0: unknown
+};
+
+/// One image to render: its rays, the features, and how the rays are bent.
+struct RenderRequest {
+    ViewRays rays;
+    RenderSettings settings;
+    Warp warp;
+};
+
+class Raycaster;
+
+/// Images submitted to the device together (one command buffer) and not yet read back. The host
+/// is free while the device works; Raycaster::collect waits and reads the images. Dropping a
+/// batch waits for the device and discards its images.
+class RenderBatch {
+public:
+    RenderBatch(RenderBatch&& other) noexcept;
+    RenderBatch& operator=(RenderBatch&&) = delete;
+    RenderBatch(const RenderBatch&) = delete;
+    RenderBatch& operator=(const RenderBatch&) = delete;
+    ~RenderBatch();
+
+    [[nodiscard]] std::size_t size() const { return mSlots.size(); }
+
+private:
+    friend class Raycaster;
+    RenderBatch() = default;
+
+    Raycaster* mOwner = nullptr;
+    std::vector<int> mSlots;         // the ray caster's per-image resources in use, one per image
+    std::vector<bool> mIsWritingHits;
+    std::optional<SubmittedWork> mWork;
+};
+
+/// Holds the volume's textures, the pipelines (one per feature combination, built on first
+/// use), the empty-space maps (one per iso value or transfer function and cell size) and the
+/// output images, so the walls, eyes and frames of a sequence share them.
+class Raycaster {
+public:
+    /// `volume` is the CPU copy of what `texture` holds (finer skipping cells are built from
+    /// it); `bricks` its 8^3 brick min/max, used as is for 8-voxel cells (e.g. from .vdb leaves).
+    /// Both must outlive the ray caster.
+    Raycaster(const GpuContext& context, const volumes::Volume& volume, const VolumeTexture& texture,
+              const volumes::BrickMinMax& bricks);
+    ~Raycaster();
+
+    /// Binds the baked map that WarpMode::Chord and ::Exact bend rays with: the texels of a
+    /// conformal::CubeMap (6 faces in Vulkan order, size^2 RGBA float each). Not while a batch
+    /// is in flight.
+    void setCubeMap(int size, std::span<const float> rgba);
+
+    /// Renders one image and waits for it. Throws std::invalid_argument for bad rays or
+    /// settings, and std::logic_error for a warp without a cube map.
+    RenderedImage render(const ViewRays& rays, const RenderSettings& settings, const Warp& warp = {});
+
+    /// Records every request into one command buffer, submits it and returns without waiting,
+    /// so the host can work (encode the previous frame's images, say) while the device renders.
+    /// At most kMaxImagesInFlight images may be submitted and not yet collected. Throws like
+    /// render() before anything is submitted.
+    RenderBatch submit(std::span<const RenderRequest> requests);
+    /// Waits for the batch and reads its images back, in the order they were requested; the
+    /// pixels equal render()'s for the same request.
+    std::vector<RenderedImage> collect(RenderBatch& batch);
+
+    /// Images that may be in flight at once: two stereo frames of a six-wall display with their
+    /// before/after walls.
+    static constexpr int kMaxImagesInFlight = 48;
+
+private:
+    friend class RenderBatch;
+    struct Targets;
+    struct Slot;
+    using PipelineKey = std::tuple<int, int, int, int, int, int>;
+
+    void validateRequest(const RenderRequest& request) const;
+    void recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex);
+    void releaseSlots(const std::vector<int>& slots);
+
+    ComputePipeline& pipelineFor(const RenderSettings& settings, WarpMode warp);
+    const SampledTexture& skipDistanceFor(const RenderSettings& settings);
+    const SampledTexture& transferTextureFor(const std::string& name);
+
+    const GpuContext* mContext;
+    const volumes::Volume* mVolumeData;
+    const VolumeTexture* mVolume;
+    const volumes::BrickMinMax* mBricks;
+    std::map<int, volumes::BrickMinMax> mFinerCells;  // by cell size
+    SampledTexture mCubeMap;
+    bool mHasCubeMap = false;
+    std::map<PipelineKey, std::unique_ptr<ComputePipeline>> mPipelines;
+    std::map<std::string, SampledTexture> mSkipDistances;    // by cell size and "iso:<value>" or "tf:<name>"
+    std::map<std::string, SampledTexture> mTransferTextures;  // by preset name
+    std::map<std::string, TransferTable> mTransferTables;
+    std::vector<std::unique_ptr<Slot>> mSlots;  // per-image uniforms, timers and targets
+    std::vector<bool> mIsSlotBusy;
+    GpuImage mNoHitImage;  // bound where hits are not asked for (the shader then never writes it)
+};
+
+}  // namespace engine

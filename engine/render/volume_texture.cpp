@@ -1,0 +1,105 @@
+#include "engine/render/volume_texture.h"
+
+#include <algorithm>
+
+#include "engine/core/command_submission.h"
+#include "engine/core/gpu_buffer.h"
+
+namespace engine {
+namespace {
+
+constexpr vk::DeviceSize kSlabBytes = 32u << 20;
+
+vk::Extent3D extentOf(const volumes::Volume& volume, const GpuContext& context) {
+    const uint32_t limit = context.physicalDevice().getProperties().limits.maxImageDimension3D;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (static_cast<uint32_t>(volume.dims[static_cast<std::size_t>(axis)]) > limit) {
+            throw std::runtime_error("volume of " + std::to_string(volume.dims[static_cast<std::size_t>(axis)]) +
+                                     " voxels along axis " + std::to_string(axis) + " exceeds the device's 3D image limit of " +
+                                     std::to_string(limit));
+        }
+    }
+    return vk::Extent3D(static_cast<uint32_t>(volume.dims[0]), static_cast<uint32_t>(volume.dims[1]),
+                        static_cast<uint32_t>(volume.dims[2]));
+}
+
+vk::SamplerCreateInfo trilinearClampSampler() {
+    vk::SamplerCreateInfo info;
+    info.magFilter = vk::Filter::eLinear;
+    info.minFilter = vk::Filter::eLinear;
+    info.mipmapMode = vk::SamplerMipmapMode::eNearest;
+    info.addressModeU = info.addressModeV = info.addressModeW = vk::SamplerAddressMode::eClampToEdge;
+    info.maxLod = 0.0f;
+    return info;
+}
+
+/// Runs `perSlab(firstZ, depth)` over z-slabs that each fit kSlabBytes.
+template <typename Function>
+void forEachSlab(const std::array<int, 3>& dims, Function perSlab) {
+    const vk::DeviceSize sliceBytes = static_cast<vk::DeviceSize>(dims[0]) * static_cast<vk::DeviceSize>(dims[1]) * 2;
+    const int slicesPerSlab = static_cast<int>(std::max<vk::DeviceSize>(1, kSlabBytes / sliceBytes));
+    for (int z = 0; z < dims[2]; z += slicesPerSlab) perSlab(z, std::min(slicesPerSlab, dims[2] - z), sliceBytes);
+}
+
+}  // namespace
+
+VolumeTexture::VolumeTexture(const GpuContext& context, const volumes::Volume& volume)
+    : mContext(&context),
+      mDims(volume.dims),
+      mSpacingMm(volume.spacingMm),
+      mImage(context, extentOf(volume, context), vk::Format::eR16Unorm,
+             vk::ImageUsageFlagBits::eSampled | vk::ImageUsageFlagBits::eTransferDst | vk::ImageUsageFlagBits::eTransferSrc,
+             "CT volume"),
+      mSampler(context.device(), trilinearClampSampler()) {
+    volumes::validateVolume(volume, "volume for upload");
+    bool isFirst = true;
+    forEachSlab(mDims, [&](int firstZ, int depth, vk::DeviceSize sliceBytes) {
+        GpuBuffer staging(context, sliceBytes * static_cast<vk::DeviceSize>(depth), vk::BufferUsageFlagBits::eTransferSrc,
+                          GpuBuffer::Memory::HostVisible, "volume upload staging");
+        auto* texels = static_cast<uint16_t*>(staging.mapped());
+        const std::size_t first = volume.linearIndex(0, 0, firstZ);
+        const std::size_t count = static_cast<std::size_t>(sliceBytes / 2) * static_cast<std::size_t>(depth);
+        for (std::size_t i = 0; i < count; ++i) {
+            texels[i] = static_cast<uint16_t>(static_cast<int>(volume.hu[first + i]) + kHuTexelOffset);
+        }
+        const bool isLast = firstZ + depth == mDims[2];
+        submitAndWait(context, [&](const vk::raii::CommandBuffer& commands) {
+            if (isFirst) recordImageBarrier(commands, mImage, vk::ImageLayout::eUndefined, vk::ImageLayout::eTransferDstOptimal);
+            vk::BufferImageCopy region(0, 0, 0, vk::ImageSubresourceLayers(vk::ImageAspectFlagBits::eColor, 0, 0, 1),
+                                       vk::Offset3D(0, 0, firstZ),
+                                       vk::Extent3D(static_cast<uint32_t>(mDims[0]), static_cast<uint32_t>(mDims[1]),
+                                                    static_cast<uint32_t>(depth)));
+            commands.copyBufferToImage(*staging.buffer(), *mImage.image(), vk::ImageLayout::eTransferDstOptimal, region);
+            if (isLast) {
+                recordImageBarrier(commands, mImage, vk::ImageLayout::eTransferDstOptimal,
+                                   vk::ImageLayout::eShaderReadOnlyOptimal);
+            }
+        });
+        isFirst = false;
+    });
+}
+
+std::vector<int16_t> VolumeTexture::readBackHu() const {
+    std::vector<int16_t> hu(static_cast<std::size_t>(mDims[0]) * static_cast<std::size_t>(mDims[1]) *
+                            static_cast<std::size_t>(mDims[2]));
+    forEachSlab(mDims, [&](int firstZ, int depth, vk::DeviceSize sliceBytes) {
+        GpuBuffer readback(*mContext, sliceBytes * static_cast<vk::DeviceSize>(depth), vk::BufferUsageFlagBits::eTransferDst,
+                           GpuBuffer::Memory::HostVisible, "volume readback");
+        submitAndWait(*mContext, [&](const vk::raii::CommandBuffer& commands) {
+            recordImageBarrier(commands, mImage, vk::ImageLayout::eShaderReadOnlyOptimal, vk::ImageLayout::eTransferSrcOptimal);
+            vk::BufferImageCopy region(0, 0, 0, vk::ImageSubresourceLayers(vk::ImageAspectFlagBits::eColor, 0, 0, 1),
+                                       vk::Offset3D(0, 0, firstZ),
+                                       vk::Extent3D(static_cast<uint32_t>(mDims[0]), static_cast<uint32_t>(mDims[1]),
+                                                    static_cast<uint32_t>(depth)));
+            commands.copyImageToBuffer(*mImage.image(), vk::ImageLayout::eTransferSrcOptimal, *readback.buffer(), region);
+            recordImageBarrier(commands, mImage, vk::ImageLayout::eTransferSrcOptimal, vk::ImageLayout::eShaderReadOnlyOptimal);
+        });
+        const auto* texels = static_cast<const uint16_t*>(readback.mapped());
+        const std::size_t first = static_cast<std::size_t>(sliceBytes / 2) * static_cast<std::size_t>(firstZ);
+        const std::size_t count = static_cast<std::size_t>(sliceBytes / 2) * static_cast<std::size_t>(depth);
+        for (std::size_t i = 0; i < count; ++i) hu[first + i] = static_cast<int16_t>(static_cast<int>(texels[i]) - kHuTexelOffset);
+    });
+    return hu;
+}
+
+}  // namespace engine

@@ -1,0 +1,38 @@
+/// @brief The CT volume on the device: an R16_UNORM 3D image holding HU + 32768, so every
+/// int16 value survives exactly, sampled through a trilinear, clamp-to-edge sampler.
+#pragma once
+
+#include <vector>
+
+#include "engine/core/gpu_context.h"
+#include "engine/core/gpu_image.h"
+#include "volumes/volume.h"
+
+namespace engine {
+
+/// Offset that maps int16 HU onto the uint16 texel range (shaders undo it after sampling).
+inline constexpr int kHuTexelOffset = 32768;
+
+class VolumeTexture {
+public:
+    /// Uploads `volume` in slabs of at most 32 MiB, so the staging memory stays small next
+    /// to a large CT. Throws if the device's 3D image limit is smaller than the volume.
+    VolumeTexture(const GpuContext& context, const volumes::Volume& volume);
+
+    [[nodiscard]] const GpuImage& image() const { return mImage; }
+    [[nodiscard]] const vk::raii::Sampler& sampler() const { return mSampler; }
+    [[nodiscard]] std::array<int, 3> dims() const { return mDims; }
+    [[nodiscard]] glm::dvec3 spacingMm() const { return mSpacingMm; }
+
+    /// Copies the image back to the host as HU (for tests of the upload path).
+    [[nodiscard]] std::vector<int16_t> readBackHu() const;
+
+private:
+    const GpuContext* mContext;
+    std::array<int, 3> mDims;
+    glm::dvec3 mSpacingMm;
+    GpuImage mImage;
+    vk::raii::Sampler mSampler;
+};
+
+}  // namespace engine
