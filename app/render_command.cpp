@@ -98,6 +98,10 @@ engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isD
     engine::RenderSettings settings = options.settings;
     settings.mode = options.mode == "composite" ? engine::RenderMode::Composite : engine::RenderMode::IsoSurface;
     settings.filter = options.filter == "tricubic" ? engine::VolumeFilter::Tricubic : engine::VolumeFilter::Trilinear;
+    // Stills get smooth normals; display frames, which come by the dozen from inside the colon
+    // where the bands hardly show, keep the 4x cheaper trilinear ones (docs/benchmarks.md).
+    const std::string gradient = !options.gradient.empty() ? options.gradient : isDisplay ? "central" : "bspline";
+    settings.gradient = gradient == "central" ? engine::GradientFilter::Central : engine::GradientFilter::BSpline;
     settings.isSkipping = !options.isSkippingOff;
     settings.lightHalfDistanceMm = options.lightHalfDistanceMm >= 0.0 ? options.lightHalfDistanceMm : isDisplay ? 25.0 : 0.0;
     // Display frames come by the dozen and their hits are refined by bisection: a voxel-long
@@ -184,6 +188,11 @@ void addRenderCommand(CLI::App& program) {
         ->capture_default_str()->group(rendering);
     command->add_option("--filter", options->filter, "trilinear (fast) or tricubic (B-spline, for stills)")
         ->check(CLI::IsMember({"trilinear", "tricubic"}))->capture_default_str()->group(rendering);
+    command->add_option("--gradient", options->gradient,
+                        "Shading normals: bspline (central differences of the cubic B-spline: smooth on coarse CT, 48 "
+                        "fetches per shaded sample) or central (of the trilinear interpolant: 6 fetches); default: "
+                        "bspline for a pinhole view, central for display frames; tricubic always uses bspline")
+        ->check(CLI::IsMember({"bspline", "central"}))->group(rendering);
     command->add_flag("--no-skip", options->isSkippingOff, "Turn off empty-space skipping")->group(rendering);
     command->add_option("--skip-cell", s.skipCellVoxels, "Edge in voxels of the empty-space map's cells (8: the 8^3 bricks)")
         ->check(CLI::Range(1, 64))->capture_default_str()->group(rendering);

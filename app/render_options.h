@@ -44,6 +44,7 @@ struct RenderOptions {
     // Rendering
     std::string mode = "iso";
     std::string filter = "trilinear";
+    std::string gradient;  // empty: bspline for a pinhole view, central for display frames
     bool isSkippingOff = false;
     engine::RenderSettings settings;
     double lightHalfDistanceMm = -1.0;  // < 0: none for a pinhole view, 25 mm for a display

@@ -32,6 +32,7 @@ using uvec4 = glm::uvec4;
 #define CVC_SPEC_SKIPPING 3    // 1: empty-space skipping over bricks
 #define CVC_SPEC_ADAPTIVE 4    // 1: adaptive step size
 #define CVC_SPEC_COUNT_FETCHES 5  // 1: hit image w = texture fetches the ray made (benchmarks)
+#define CVC_SPEC_GRADIENT 6    // CVC_GRADIENT_*: how shading normals are computed
 
 #define CVC_MODE_ISO 0
 #define CVC_MODE_COMPOSITE 1
@@ -40,10 +41,13 @@ using uvec4 = glm::uvec4;
 #define CVC_WARP_NONE 0
 #define CVC_WARP_CHORD 1   // map the near and far ends of the ray, march the chord (paper Eq. 7)
 #define CVC_WARP_EXACT 2   // map every sample (the reference for stereo eyes)
+#define CVC_GRADIENT_CENTRAL 0  // central differences of the filtered volume (6 trilinear fetches)
+#define CVC_GRADIENT_BSPLINE 1  // central differences of the cubic B-spline interpolant (48 fetches, smooth)
 
 // Bits of RaycastUniforms::frame.w
 #define CVC_FLAG_WRITE_HITS 1u
 #define CVC_FLAG_JITTER 2u
+#define CVC_FLAG_WRITE_NORMALS 4u  // the hit image holds the shading normal (xyz) instead of the position
 
 // Work-group size of the image-space shaders (pixels per group along x and y).
 #define CVC_TILE_SIZE 8

@@ -16,6 +16,7 @@ layout(constant_id = CVC_SPEC_WARP) const int kWarp = CVC_WARP_NONE;
 layout(constant_id = CVC_SPEC_SKIPPING) const bool kSkipping = false;
 layout(constant_id = CVC_SPEC_ADAPTIVE) const bool kAdaptive = false;
 layout(constant_id = CVC_SPEC_COUNT_FETCHES) const bool kCountFetches = false;
+layout(constant_id = CVC_SPEC_GRADIENT) const int kGradient = CVC_GRADIENT_BSPLINE;
 
 // Volume fetches this invocation made (only kept when kCountFetches: a benchmark's counter).
 uint gFetchCount = 0u;
@@ -154,7 +155,7 @@ bool skipEmptySpace(Segment s, vec3 invDir, inout float tCheck, inout float t, i
 }
 
 vec3 normalAt(vec3 p, vec3 towardEye) {
-    vec3 g = gradientHu(p);
+    vec3 g = gradientCentralHu(p, kGradient == CVC_GRADIENT_BSPLINE || kFilter == CVC_FILTER_TRICUBIC);
     float gLength = length(g);
     return gLength > 1e-6 ? -g / gLength : towardEye;
 }
@@ -208,8 +209,9 @@ void main() {
             if (isHit) {
                 vec3 p = pointAt(s, tHit);
                 vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm.xyz - p) : -s.dir;
-                color = shadeCookTorrance(normalAt(p, towardEye), towardEye, tHit + s.eyeDistance, kSurfaceColor);
-                hit = vec4(p, 1.0);
+                vec3 normal = normalAt(p, towardEye);
+                color = shadeCookTorrance(normal, towardEye, tHit + s.eyeDistance, kSurfaceColor);
+                hit = vec4((u.frame.w & CVC_FLAG_WRITE_NORMALS) != 0u ? normal : p, 1.0);
             }
         } else {
             // Composite: front-to-back "over" blending of classified, shaded samples.
@@ -223,11 +225,13 @@ void main() {
                 if (sampleColor.a > 1.0 / 1024.0) {
                     // Gradients only for samples that contribute.
                     vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm.xyz - p) : -s.dir;
-                    vec3 shaded = shadeCookTorrance(normalAt(p, towardEye), towardEye, t + s.eyeDistance,
-                                                    sampleColor.rgb);
+                    vec3 normal = normalAt(p, towardEye);
+                    vec3 shaded = shadeCookTorrance(normal, towardEye, t + s.eyeDistance, sampleColor.rgb);
                     accumulated.rgb += (1.0 - accumulated.a) * sampleColor.a * shaded;
                     accumulated.a += (1.0 - accumulated.a) * sampleColor.a;
-                    if (hit.w == 0.0 && accumulated.a >= 0.5) hit = vec4(p, 1.0);
+                    if (hit.w == 0.0 && accumulated.a >= 0.5) {
+                        hit = vec4((u.frame.w & CVC_FLAG_WRITE_NORMALS) != 0u ? normal : p, 1.0);
+                    }
                     if (accumulated.a >= u.adaptive.w) break;  // early ray termination
                 }
                 tPrev = t;

@@ -13,23 +13,39 @@ float fetchTrilinear(vec3 tc) {
     return textureLod(volumeTexture, tc, 0.0).r;
 }
 
-// Tricubic B-spline from 8 trilinear fetches (Sigg and Hadwiger, GPU Gems 2, ch. 20): per
-// axis the four B-spline weights fold into two linear fetches at shifted positions.
-float fetchTricubic(vec3 tc) {
-    vec3 dims = u.volumeDims.xyz;
-    vec3 coord = tc * dims - 0.5;  // voxel centres at integers
-    vec3 index = floor(coord);
-    vec3 f = coord - index;
+// The cubic B-spline from trilinear fetches (Sigg and Hadwiger, GPU Gems 2, ch. 20): per axis
+// the four (positive) weights of the texels index-1 .. index+2 fold into two linear fetches at
+// shifted positions, so a value costs 8 fetches.
+struct BSplineAxes {
+    vec3 index;  // voxel index of the texel below the point, per axis
+    vec3 f;      // fraction of the way to the next texel
+};
+
+BSplineAxes bsplineAxes(vec3 tc) {
+    vec3 coord = tc * u.volumeDims.xyz - 0.5;  // voxel centres at integers
+    BSplineAxes a;
+    a.index = floor(coord);
+    a.f = coord - a.index;
+    return a;
+}
+
+// Weights (w0 + w1, w2 + w3) of the B-spline per axis and the two fetch positions (texture
+// coordinates) that carry them.
+void bsplineWeights(BSplineAxes a, out vec3 g0, out vec3 g1, out vec3 p0, out vec3 p1) {
+    vec3 f = a.f;
     vec3 oneMinusF = 1.0 - f;
     vec3 w0 = oneMinusF * oneMinusF * oneMinusF / 6.0;
     vec3 w1 = 2.0 / 3.0 - 0.5 * f * f * (2.0 - f);
     vec3 w2 = 2.0 / 3.0 - 0.5 * oneMinusF * oneMinusF * (2.0 - oneMinusF);
     vec3 w3 = f * f * f / 6.0;
-    vec3 g0 = w0 + w1;
-    vec3 g1 = w2 + w3;
-    // Fetch positions in voxel units, then back to texture coordinates.
-    vec3 p0 = (index - 1.0 + w1 / g0 + 0.5) / dims;
-    vec3 p1 = (index + 1.0 + w3 / g1 + 0.5) / dims;
+    g0 = w0 + w1;
+    g1 = w2 + w3;
+    p0 = (a.index - 1.0 + w1 / g0 + 0.5) / u.volumeDims.xyz;
+    p1 = (a.index + 1.0 + w3 / g1 + 0.5) / u.volumeDims.xyz;
+}
+
+// Sum of the 8 fetches at the corners spanned by p0 and p1, weighted per axis by g0 and g1.
+float blendEightFetches(vec3 g0, vec3 g1, vec3 p0, vec3 p1) {
     float v000 = fetchTrilinear(vec3(p0.x, p0.y, p0.z));
     float v100 = fetchTrilinear(vec3(p1.x, p0.y, p0.z));
     float v010 = fetchTrilinear(vec3(p0.x, p1.y, p0.z));
@@ -43,21 +59,40 @@ float fetchTricubic(vec3 tc) {
     return g0.z * z0 + g1.z * z1;
 }
 
+float fetchTricubic(vec3 tc) {
+    vec3 g0, g1, p0, p1;
+    bsplineWeights(bsplineAxes(tc), g0, g1, p0, p1);
+    return blendEightFetches(g0, g1, p0, p1);
+}
+
 float fetchFiltered(vec3 tc) {
     return kFilter == CVC_FILTER_TRICUBIC ? fetchTricubic(tc) : fetchTrilinear(tc);
 }
 
 float sampleHu(vec3 pMm) { return huFromUnorm(fetchFiltered(texFromMm(pMm))); }
 
-// Central-difference gradient in HU per mm, one voxel to each side. For trilinear filtering,
-// shifting by exactly one voxel keeps the weights, so this equals the voxels' own central
-// differences blended trilinearly: continuous across voxel planes.
-vec3 gradientHu(vec3 pMm) {
+// Central-difference gradient in HU per mm, one voxel to each side, of the trilinear or the
+// cubic B-spline interpolant. Trilinear (6 fetches): shifting by exactly one voxel keeps the
+// weights, so this equals the voxels' own central differences blended trilinearly, continuous
+// across voxel planes but with a kink at each, which coarse CT shows as one sharp shading band
+// per voxel layer. B-spline (48 fetches): the same central differences blended by the cubic
+// B-spline, twice continuously differentiable, so the normals turn smoothly; used only where a
+// sample is shaded. (The B-spline's exact derivative, 24 fetches, was measured too: without
+// the central difference's one-voxel averaging it shows the terraces sharper than trilinear;
+// docs/benchmarks.md.)
+vec3 gradientCentralHu(vec3 pMm, bool isTricubic) {
     vec3 tc = texFromMm(pMm);
     vec3 h = 1.0 / u.volumeDims.xyz;
-    float dx = fetchFiltered(tc + vec3(h.x, 0, 0)) - fetchFiltered(tc - vec3(h.x, 0, 0));
-    float dy = fetchFiltered(tc + vec3(0, h.y, 0)) - fetchFiltered(tc - vec3(0, h.y, 0));
-    float dz = fetchFiltered(tc + vec3(0, 0, h.z)) - fetchFiltered(tc - vec3(0, 0, h.z));
+    float dx, dy, dz;
+    if (isTricubic) {
+        dx = fetchTricubic(tc + vec3(h.x, 0, 0)) - fetchTricubic(tc - vec3(h.x, 0, 0));
+        dy = fetchTricubic(tc + vec3(0, h.y, 0)) - fetchTricubic(tc - vec3(0, h.y, 0));
+        dz = fetchTricubic(tc + vec3(0, 0, h.z)) - fetchTricubic(tc - vec3(0, 0, h.z));
+    } else {
+        dx = fetchTrilinear(tc + vec3(h.x, 0, 0)) - fetchTrilinear(tc - vec3(h.x, 0, 0));
+        dy = fetchTrilinear(tc + vec3(0, h.y, 0)) - fetchTrilinear(tc - vec3(0, h.y, 0));
+        dz = fetchTrilinear(tc + vec3(0, 0, h.z)) - fetchTrilinear(tc - vec3(0, 0, h.z));
+    }
     return vec3(dx, dy, dz) * 65535.0 * 0.5 * u.invSpacingMm.xyz;
 }
 

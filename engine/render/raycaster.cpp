@@ -137,12 +137,13 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
     const int32_t mode = settings.mode == RenderMode::Composite ? CVC_MODE_COMPOSITE : CVC_MODE_ISO;
     const int32_t filter = settings.filter == VolumeFilter::Tricubic ? CVC_FILTER_TRICUBIC : CVC_FILTER_TRILINEAR;
     const int32_t warpId = warp == WarpMode::Exact ? CVC_WARP_EXACT : warp == WarpMode::Chord ? CVC_WARP_CHORD : CVC_WARP_NONE;
+    const int32_t gradient = settings.gradient == GradientFilter::BSpline ? CVC_GRADIENT_BSPLINE : CVC_GRADIENT_CENTRAL;
     const PipelineKey key{mode, filter, warpId, settings.isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0,
-                          settings.isCountingFetches ? 1 : 0};
+                          settings.isCountingFetches ? 1 : 0, gradient};
     auto& slot = mPipelines[key];
     if (!slot) {
-        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_COUNT_FETCHES.
-        const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key)};
+        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_GRADIENT.
+        const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key), gradient};
         slot = std::make_unique<ComputePipeline>(
             *mContext, raycast_spv,
             std::vector<vk::DescriptorType>{vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eCombinedImageSampler,
@@ -349,7 +350,8 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
                           static_cast<float>(settings.roughness), static_cast<float>(settings.fresnel),
                           static_cast<float>(settings.ambient));
     u.frame = glm::uvec4(static_cast<uint32_t>(rays.width), static_cast<uint32_t>(rays.height), settings.jitterSeed,
-                         (settings.isWritingHits ? CVC_FLAG_WRITE_HITS : 0u) | (settings.isJittered ? CVC_FLAG_JITTER : 0u));
+                         (settings.isWritingHits ? CVC_FLAG_WRITE_HITS : 0u) | (settings.isJittered ? CVC_FLAG_JITTER : 0u) |
+                             (settings.isWritingNormals ? CVC_FLAG_WRITE_NORMALS : 0u));
     slot.uniforms.write(std::as_bytes(std::span(&u, 1)));
 
     recordImageBarrier(commands, targets.color, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);

@@ -22,6 +22,11 @@ namespace engine {
 
 enum class RenderMode { IsoSurface, Composite };
 enum class VolumeFilter { Trilinear, Tricubic };
+/// How shading normals are computed: central differences of the trilinear interpolant (6 fetches;
+/// their kinks at voxel planes band coarse CT), or of the cubic B-spline interpolant (48 fetches,
+/// only where a sample is shaded; smooth across voxel planes, as the tricubic filter's). The
+/// tricubic filter always uses the B-spline's.
+enum class GradientFilter { Central, BSpline };
 /// How rays are bent: not at all; by mapping a ray's near and far points and marching the
 /// chord between them (paper Eq. 7, exact for an eye at the map centre); or by mapping every
 /// sample (the reference the chord is measured against for stereo eyes).
@@ -34,6 +39,7 @@ struct RenderSettings {
     double stepVoxels = 0.5;                      // base step, in units of the smallest voxel side
     int refinementSteps = 6;                      // iso mode: bisection steps; 0 = the raw sample
     VolumeFilter filter = VolumeFilter::Trilinear;
+    GradientFilter gradient = GradientFilter::BSpline;  // docs/benchmarks.md, "Shading normals on coarse CT"
     bool isSkipping = true;                       // empty-space skipping over a distance map
     int skipCellVoxels = 2;                       // cell edge of that map, voxels (8: the 8^3 bricks)
     bool isAdaptive = false;                      // lengthen steps where a pixel covers > 1 voxel
@@ -48,6 +54,7 @@ struct RenderSettings {
     double ambient = 0.10;
     bool isWritingHits = true;                    // fill RenderedImage::hitMm
     bool isCountingFetches = false;               // benchmarks: hitMm's w = volume fetches per ray
+    bool isWritingNormals = false;                // tests: hitMm's xyz = the shading normal, not the position
 };
 
 /// The warp of space about the map centre (DESIGN.md "Rays"), in volume millimetres.
@@ -138,7 +145,7 @@ private:
     friend class RenderBatch;
     struct Targets;
     struct Slot;
-    using PipelineKey = std::tuple<int, int, int, int, int, int>;
+    using PipelineKey = std::tuple<int, int, int, int, int, int, int>;
 
     void validateRequest(const RenderRequest& request) const;
     void recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex);
