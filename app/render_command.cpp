@@ -103,10 +103,12 @@ engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isD
     const std::string gradient = !options.gradient.empty() ? options.gradient : isDisplay ? "central" : "bspline";
     settings.gradient = gradient == "central" ? engine::GradientFilter::Central : engine::GradientFilter::BSpline;
     settings.isSkipping = !options.isSkippingOff;
-    settings.lightHalfDistanceMm = options.lightHalfDistanceMm >= 0.0 ? options.lightHalfDistanceMm : isDisplay ? 25.0 : 0.0;
+    // Each default is chosen here, once; a value given is passed on as it is, so a bad one is
+    // refused by the ray caster's checks instead of silently replaced.
+    settings.lightHalfDistanceMm = options.lightHalfDistanceMm.value_or(isDisplay ? 25.0 : 0.0);
     // Display frames come by the dozen and their hits are refined by bisection: a voxel-long
     // step halves their time; a still keeps the finer default.
-    settings.stepVoxels = options.stepVoxels > 0.0 ? options.stepVoxels : isDisplay ? 1.0 : 0.5;
+    settings.stepVoxels = options.stepVoxels.value_or(isDisplay ? 1.0 : 0.5);
     if (settings.mode == engine::RenderMode::Composite) {
         engine::transferFunctionPreset(settings.transferFunction);  // a typo fails before any loading
     }
@@ -182,7 +184,8 @@ void addRenderCommand(CLI::App& program) {
     command->add_option("--iso", s.isoHu, "Iso value in HU")->capture_default_str()->group(rendering);
     command->add_option("--tf", s.transferFunction, "Transfer function preset: colon-wall, soft-tissue, bone")
         ->capture_default_str()->group(rendering);
-    command->add_option("--step", options->stepVoxels,
+    command->add_option_function<double>(
+        "--step", [options](const double& value) { options->stepVoxels = value; },
                         "March step in voxels (default: 0.5 for a pinhole view, 1 for display frames)")->group(rendering);
     command->add_option("--refine", s.refinementSteps, "Bisection steps refining each iso hit (0: none)")
         ->capture_default_str()->group(rendering);
@@ -203,7 +206,8 @@ void addRenderCommand(CLI::App& program) {
         ->group(rendering);
     command->add_option("--jitter", s.jitterSeed, "Jitter ray starts with this seed (same seed, same image)")
         ->each([&s](const std::string&) { s.isJittered = true; })->group(rendering);
-    command->add_option("--light-distance", options->lightHalfDistanceMm,
+    command->add_option_function<double>(
+        "--light-distance", [options](const double& value) { options->lightHalfDistanceMm = value; },
                         "Distance in mm at which the headlight is half as bright (0: no falloff; default: none for "
                         "a pinhole view, 25 for a display)")->group(rendering);
     command->add_option("--device", options->device,

@@ -1,6 +1,7 @@
 /// @brief Everything `cvc render` takes on the command line.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,8 +48,8 @@ struct RenderOptions {
     std::string gradient;  // empty: bspline for a pinhole view, central for display frames
     bool isSkippingOff = false;
     engine::RenderSettings settings;
-    double lightHalfDistanceMm = -1.0;  // < 0: none for a pinhole view, 25 mm for a display
-    double stepVoxels = -1.0;           // < 0: 0.5 for a pinhole still, 1.0 for display frames
+    std::optional<double> lightHalfDistanceMm;  // not given: none for a pinhole view, 25 mm for a display
+    std::optional<double> stepVoxels;           // not given: 0.5 for a pinhole still, 1.0 for display frames
     std::string device;
 };
 

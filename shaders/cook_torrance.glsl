@@ -7,9 +7,9 @@
 const float kPi = 3.14159265358979;
 
 vec3 shadeCookTorrance(vec3 normal, vec3 toEye, float distanceMm, vec3 baseColor) {
-    float roughness = u.shading.y;
-    float f0 = u.shading.z;
-    float ambient = u.shading.w;
+    float roughness = u.roughness;
+    float f0 = u.fresnelF0;
+    float ambient = u.ambient;
     // Light and eye coincide: L = V = H, so N.L = N.V = N.H and V.H = 1.
     float nDotV = clamp(abs(dot(normal, toEye)), 1e-4, 1.0);
     float alpha = roughness * roughness;
@@ -22,7 +22,7 @@ vec3 shadeCookTorrance(vec3 normal, vec3 toEye, float distanceMm, vec3 baseColor
     float fresnel = f0;
     float specular = distribution * geometry * fresnel / (4.0 * nDotV * nDotV);
     vec3 diffuse = (1.0 - fresnel) * baseColor / kPi;
-    float radiance = kPi / (1.0 + u.shading.x * distanceMm * distanceMm);
+    float radiance = kPi / (1.0 + u.lightFalloffPerMm2 * distanceMm * distanceMm);
     return ambient * baseColor + (diffuse + vec3(specular)) * radiance * nDotV;
 }
 

@@ -5,11 +5,11 @@
 #ifndef EMPTY_SPACE_GLSL
 #define EMPTY_SPACE_GLSL
 
-float cellVoxels() { return u.volumeDims.w; }
+float cellVoxels() { return u.skipCellVoxels; }
 
 // Cell c covers voxel coordinates [s c - 0.5, s c + s - 0.5) on each axis (voxel centres at
 // integers, s = cellVoxels), i.e. the samples whose trilinear footprint lies in its apron.
-ivec3 cellOf(vec3 pMm) { return ivec3(floor((pMm * u.invSpacingMm.xyz + 0.5) / cellVoxels())); }
+ivec3 cellOf(vec3 pMm) { return ivec3(floor((pMm * u.invSpacingMm + 0.5) / cellVoxels())); }
 
 uint skipDistanceAt(ivec3 cell) {
     ivec3 last = textureSize(skipDistance, 0) - 1;
@@ -18,7 +18,7 @@ uint skipDistanceAt(ivec3 cell) {
 
 // Ray parameter where origin + t * dir leaves `cell`.
 float cellExitT(vec3 origin, vec3 invDir, ivec3 cell) {
-    vec3 spacing = 1.0 / u.invSpacingMm.xyz;
+    vec3 spacing = 1.0 / u.invSpacingMm;
     vec3 lo = (vec3(cell) * cellVoxels() - 0.5) * spacing;
     vec3 hi = lo + cellVoxels() * spacing;
     vec3 t0 = (lo - origin) * invDir;

@@ -2,8 +2,8 @@
 /// and the GLSL shaders.
 ///
 /// Included from C++ (with GLM types) and from GLSL (with its built-in types), so both sides
-/// agree on every offset. Only 16-byte members are used: std140 and C++ then lay them out
-/// identically (checked by static_asserts in engine/render/raycaster.cpp).
+/// agree on every offset (checked by tests/engine/uniform_layout_test.cpp against glslang's
+/// reflection of the compiled shader).
 #ifndef CVC_HOST_DEVICE_H
 #define CVC_HOST_DEVICE_H
 
@@ -11,8 +11,9 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 namespace shaders {
-using vec4 = glm::vec4;
-using uvec4 = glm::uvec4;
+using vec3 = glm::vec3;
+using uvec2 = glm::uvec2;
+using uint = std::uint32_t;
 #endif
 
 // Bindings of the ray caster (shaders/raycast.comp).
@@ -44,7 +45,7 @@ using uvec4 = glm::uvec4;
 #define CVC_GRADIENT_CENTRAL 0  // central differences of the filtered volume (6 trilinear fetches)
 #define CVC_GRADIENT_BSPLINE 1  // central differences of the cubic B-spline interpolant (48 fetches, smooth)
 
-// Bits of RaycastUniforms::frame.w
+// Bits of RaycastUniforms::flags
 #define CVC_FLAG_WRITE_HITS 1u
 #define CVC_FLAG_JITTER 2u
 #define CVC_FLAG_WRITE_NORMALS 4u  // the hit image holds the shading normal (xyz) instead of the position
@@ -53,32 +54,31 @@ using uvec4 = glm::uvec4;
 #define CVC_TILE_SIZE 8
 
 /// Everything one ray-casting dispatch needs. Positions and lengths are in volume millimetres
-/// (voxel (i, j, k) centred at (i, j, k) * spacing, see volumes/volume.h).
+/// (voxel (i, j, k) centred at (i, j, k) * spacing, see volumes/volume.h). Each vec3 starts a
+/// 16-byte slot and the scalar after it fills the slot: std140 and C++ then agree on every
+/// offset, which a test checks against the compiled shader's own reflection.
 struct RaycastUniforms {
     // Rays: pixel (x, y) looks from the eye through wallOrigin + (x+.5)/w * wallU + (y+.5)/h * wallV.
-    vec4 eyeMm;            // xyz: eye; w: near-plane distance from the eye along wallNormal
-    vec4 wallOriginMm;     // xyz: corner of the image at pixel (0, 0)'s outer corner (top left)
-    vec4 wallUMm;          // xyz: the image's full width, left to right
-    vec4 wallVMm;          // xyz: the image's full height, top to bottom
-    vec4 wallNormal;       // xyz: unit normal of the image plane, pointing away from the eye
+    vec3 eyeMm;            float nearMm;            // near plane: this far from the eye along wallNormal
+    vec3 wallOriginMm;     float stepMm;            // corner at pixel (0, 0)'s outer corner (top left); base step
+    vec3 wallUMm;          float isoHu;             // the image's full width, left to right; iso value
+    vec3 wallVMm;          float refinementSteps;   // full height, top to bottom; bisection steps of a hit
+    vec3 wallNormal;       float maxSteps;          // unit normal of the image plane, away from the eye; step bound
     // Warp W(q) = c + |q - c| R F(R^T dir(q - c)) (paper Eq. 7), in volume millimetres.
-    vec4 mapCentreMm;      // xyz: c, the map centre (the CAVE's centre) in the volume
-    vec4 caveToVolume0;    // xyz: R's columns, CAVE x, y, z axes as unit volume vectors
-    vec4 caveToVolume1;
-    vec4 caveToVolume2;
+    vec3 mapCentreMm;      float minStepMm;         // c, the map centre (the CAVE's centre); adaptive step bounds
+    vec3 caveToVolume0;    float maxStepMm;         // R's columns: the CAVE's x, y, z axes as unit volume vectors
+    vec3 caveToVolume1;    float radiansPerPixel;   // ... the adaptive step's pixel footprint
+    vec3 caveToVolume2;    float opacityToStop;     // ... composite mode's early ray termination
     // Volume
-    vec4 boxMinMm;         // xyz: lower corner of the volume's box (outer faces of the voxels)
-    vec4 boxMaxMm;         // xyz: upper corner
-    vec4 texFromMmScale;   // xyz: 1 / (dims * spacing); texture coordinate = p * scale + offset
-    vec4 texFromMmOffset;  // xyz: 0.5 / dims (voxel centres sit at (i + 0.5) / dims)
-    vec4 volumeDims;       // xyz: voxels per axis (float); w: voxels per skipping cell edge
-    vec4 invSpacingMm;     // xyz: 1 / spacing
-    // Marching
-    vec4 march;            // x: base step (mm); y: iso value (HU); z: refinement steps; w: max steps
-    vec4 adaptive;         // x: min step; y: max step (mm); z: radians per pixel; w: opacity to stop at
-    vec4 transfer;         // x: HU of the first entry; y: (n-1) / (n * HU span); z: reference step (mm); w: 0.5 / n
-    vec4 shading;          // x: light falloff (1/mm^2); y: roughness; z: Fresnel F0; w: ambient
-    uvec4 frame;           // x, y: image size; z: jitter seed; w: CVC_FLAG_* bits
+    vec3 boxMinMm;         float transferFirstHu;   // the box's lower corner (outer faces of the voxels)
+    vec3 boxMaxMm;         float transferIndexPerHu;  // upper corner; (n - 1) / (n * HU span) of the table
+    vec3 texFromMmScale;   float transferReferenceStepMm;  // 1 / (dims * spacing): tc = p * scale + offset
+    vec3 texFromMmOffset;  float transferHalfEntry; // 0.5 / dims (voxel centres at (i + 0.5) / dims); 0.5 / n
+    vec3 volumeDims;       float skipCellVoxels;    // voxels per axis; voxels per empty-space cell edge
+    vec3 invSpacingMm;     float lightFalloffPerMm2;  // 1 / spacing; headlight falloff 1 / half distance^2
+    // Shading (Cook-Torrance) and the frame
+    float roughness;       float fresnelF0;         float ambient;           float unused;
+    uvec2 imageSize;       uint jitterSeed;         uint flags;              // CVC_FLAG_* bits
 };
 
 #ifdef __cplusplus

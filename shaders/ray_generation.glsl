@@ -5,11 +5,11 @@
 
 // The point of pixel (x, y)'s centre on the wall (or image plane), volume millimetres.
 vec3 wallPointMm(uvec2 pixel) {
-    vec2 uv = (vec2(pixel) + 0.5) / vec2(u.frame.xy);
-    return u.wallOriginMm.xyz + uv.x * u.wallUMm.xyz + uv.y * u.wallVMm.xyz;
+    vec2 uv = (vec2(pixel) + 0.5) / vec2(u.imageSize);
+    return u.wallOriginMm + uv.x * u.wallUMm + uv.y * u.wallVMm;
 }
 
-mat3 caveToVolume() { return mat3(u.caveToVolume0.xyz, u.caveToVolume1.xyz, u.caveToVolume2.xyz); }
+mat3 caveToVolume() { return mat3(u.caveToVolume0, u.caveToVolume1, u.caveToVolume2); }
 
 // F for a display direction given in volume axes: xyz = the scene direction in volume axes,
 // w = the map's local scale there (scene radians per display radian). The cube map holds F in
@@ -22,7 +22,7 @@ vec4 sceneFromDisplay(vec3 displayDirVolume) {
 
 // W(q) = c + |q - c| * F(dir(q - c)): the warp of space about the map centre c.
 vec3 warpPoint(vec3 qMm) {
-    vec3 c = u.mapCentreMm.xyz;
+    vec3 c = u.mapCentreMm;
     vec3 offset = qMm - c;
     float radius = length(offset);
     if (radius < 1e-6) return c;  // the centre maps to itself; its direction is undefined

@@ -54,22 +54,22 @@ struct Segment {
 
 Segment withTextureRay(Segment s) {
     s.tcOrigin = texFromMm(s.origin);
-    s.tcDir = s.dir * u.texFromMmScale.xyz;
+    s.tcDir = s.dir * u.texFromMmScale;
     return s;
 }
 
 Segment segmentForPixel(uvec2 pixel) {
-    vec3 eye = u.eyeMm.xyz;
+    vec3 eye = u.eyeMm;
     vec3 wallPoint = wallPointMm(pixel);
     vec3 dir = normalize(wallPoint - eye);
-    // The near plane is parallel to the wall, u.eyeMm.w in front of the eye.
-    float tNear = u.eyeMm.w / max(dot(dir, u.wallNormal.xyz), 1e-3);
+    // The near plane is parallel to the wall, u.nearMm in front of the eye.
+    float tNear = u.nearMm / max(dot(dir, u.wallNormal), 1e-3);
 
     Segment s;
     s.localScale = 1.0;
     s.eyeDistance = 0.0;
     if (kWarp == CVC_WARP_NONE) {
-        vec2 span = intersectBox(eye, dir, u.boxMinMm.xyz, u.boxMaxMm.xyz);
+        vec2 span = intersectBox(eye, dir, u.boxMinMm, u.boxMaxMm);
         s.origin = eye;
         s.dir = dir;
         s.tStart = max(span.x, tNear);
@@ -78,8 +78,8 @@ Segment segmentForPixel(uvec2 pixel) {
     }
     // The far point lies beyond the farthest box corner as seen from the map centre, so the
     // bent ray reaches the far side of the box whichever way the map turns it.
-    vec3 c = u.mapCentreMm.xyz;
-    vec3 farCorner = max(abs(u.boxMinMm.xyz - c), abs(u.boxMaxMm.xyz - c));
+    vec3 c = u.mapCentreMm;
+    vec3 farCorner = max(abs(u.boxMinMm - c), abs(u.boxMaxMm - c));
     float tFar = length(farCorner) + length(eye - c) + tNear;
     // Only the adaptive step reads the map's local scale: other variants save the fetch.
     if (kAdaptive) s.localScale = sceneFromDisplay(normalize(wallPoint - c)).w;
@@ -96,7 +96,7 @@ Segment segmentForPixel(uvec2 pixel) {
     float chordLength = length(b - a);
     s.origin = a;
     s.dir = chordLength > 1e-6 ? (b - a) / chordLength : dir;
-    vec2 span = intersectBox(a, s.dir, u.boxMinMm.xyz, u.boxMaxMm.xyz);
+    vec2 span = intersectBox(a, s.dir, u.boxMinMm, u.boxMaxMm);
     s.tStart = max(span.x, 0.0);
     s.tEnd = min(span.y, chordLength);
     s.eyeDistance = tNear;
@@ -118,7 +118,7 @@ float valueAt(Segment s, float t) {
 }
 
 float minSpacingMm() {
-    vec3 spacing = 1.0 / u.invSpacingMm.xyz;
+    vec3 spacing = 1.0 / u.invSpacingMm;
     return min(min(spacing.x, spacing.y), spacing.z);
 }
 
@@ -127,9 +127,9 @@ float minSpacingMm() {
 // Step length at t: the base step, lengthened where one pixel covers more than a voxel (far
 // away, or where the map compresses the scene), within [min step, max step].
 float stepAt(Segment s, float t) {
-    if (!kAdaptive) return u.march.x;
-    float footprintMm = (t + s.eyeDistance) * u.adaptive.z * s.localScale;
-    return clamp(u.march.x * max(1.0, footprintMm / minSpacingMm()), u.adaptive.x, u.adaptive.y);
+    if (!kAdaptive) return u.stepMm;
+    float footprintMm = (t + s.eyeDistance) * u.radiansPerPixel * s.localScale;
+    return clamp(u.stepMm * max(1.0, footprintMm / minSpacingMm()), u.minStepMm, u.maxStepMm);
 }
 
 // Empty-space skipping: once t has left the cell last looked up, reads the distance map at t.
@@ -162,14 +162,14 @@ vec3 normalAt(vec3 p, vec3 towardEye) {
 
 void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
-    if (pixel.x >= u.frame.x || pixel.y >= u.frame.y) return;
+    if (pixel.x >= u.imageSize.x || pixel.y >= u.imageSize.y) return;
 
     Segment s = segmentForPixel(pixel);
     // Fraction of a step by which the first sample is offset; 0 without jitter.
-    float jitter = (u.frame.w & CVC_FLAG_JITTER) != 0u ? jitterFraction(pixel, u.frame.z) : 0.0;
+    float jitter = (u.flags & CVC_FLAG_JITTER) != 0u ? jitterFraction(pixel, u.jitterSeed) : 0.0;
     vec3 invDir = safeInverse(s.dir);
-    int maxSteps = int(u.march.w);
-    float iso = u.march.y;
+    int maxSteps = int(u.maxSteps);
+    float iso = u.isoHu;
 
     vec3 color = kBackground;
     vec4 hit = vec4(0.0);
@@ -178,40 +178,59 @@ void main() {
         float tPrev = s.tStart;
         float t = s.tStart;
         if (kMode == CVC_MODE_ISO) {
-            bool isHit = valueAt(s, t) >= iso;  // the ray starts inside matter: hit where it enters
-            float tHit = t;
+            // The march only fetches, compares and advances: on a SIMD CPU device a branch's body
+            // runs for the whole vector of rays whenever one of them takes it, so the hit's
+            // refinement waits until after the loop, where every ray that hit does it together.
+            float vStart = valueAt(s, t);
+            bool isHit = vStart >= iso;  // the ray starts inside matter: hit where it enters
+            bool isInside = isHit;
+            float vPrev = vStart;        // the value at tPrev, unless a skip moved tPrev
+            bool isPrevKnown = true;
+            float vHit = vStart;
             t += (jitter > 0.0 ? jitter : 1.0) * stepAt(s, t);  // tStart itself was just sampled
             for (int i = 0; i < maxSteps && !isHit && t <= s.tEnd; ++i) {
-                if (skipEmptySpace(s, invDir, tCheck, t, tPrev)) continue;
-                float value = valueAt(s, t);
-                if (value >= iso) {
-                    // The crossing lies in (tPrev, t]: bisect, keeping lo below and hi at or
-                    // above the iso value, then interpolate linearly between them.
-                    float lo = tPrev, hi = t;
-                    int refinementSteps = int(u.march.z);
-                    if (refinementSteps > 0) {
-                        for (int b = 0; b < refinementSteps; ++b) {
-                            float mid = 0.5 * (lo + hi);
-                            if (valueAt(s, mid) >= iso) hi = mid; else lo = mid;
-                        }
-                        float vLo = valueAt(s, lo);
-                        float vHi = valueAt(s, hi);
-                        float f = vHi > vLo ? clamp((iso - vLo) / (vHi - vLo), 0.0, 1.0) : 1.0;
-                        tHit = mix(lo, hi, f);
-                    } else {
-                        tHit = hi;
-                    }
-                    isHit = true;
+                if (skipEmptySpace(s, invDir, tCheck, t, tPrev)) {
+                    isPrevKnown = false;
+                    continue;
                 }
-                tPrev = t;
-                t += stepAt(s, t);
+                float value = valueAt(s, t);
+                isHit = value >= iso;
+                if (!isHit) {
+                    tPrev = t;
+                    vPrev = value;
+                    isPrevKnown = true;
+                    t += stepAt(s, t);
+                }
+                vHit = value;
             }
             if (isHit) {
+                float tHit = isInside ? s.tStart : t;
+                if (!isInside && u.refinementSteps > 0.0) {
+                    // The crossing lies in (tPrev, t]: bisect, keeping lo below and hi at or above
+                    // the iso value, then interpolate linearly between their known values.
+                    float lo = tPrev, hi = t;
+                    float vLo = isPrevKnown ? vPrev : valueAt(s, lo);  // after a skip: one fetch
+                    float vHi = vHit;
+                    int refinementSteps = int(u.refinementSteps);
+                    for (int b = 0; b < refinementSteps; ++b) {
+                        float mid = 0.5 * (lo + hi);
+                        float vMid = valueAt(s, mid);
+                        if (vMid >= iso) {
+                            hi = mid;
+                            vHi = vMid;
+                        } else {
+                            lo = mid;
+                            vLo = vMid;
+                        }
+                    }
+                    float f = vHi > vLo ? clamp((iso - vLo) / (vHi - vLo), 0.0, 1.0) : 1.0;
+                    tHit = mix(lo, hi, f);
+                }
                 vec3 p = pointAt(s, tHit);
-                vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm.xyz - p) : -s.dir;
+                vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm - p) : -s.dir;
                 vec3 normal = normalAt(p, towardEye);
                 color = shadeCookTorrance(normal, towardEye, tHit + s.eyeDistance, kSurfaceColor);
-                hit = vec4((u.frame.w & CVC_FLAG_WRITE_NORMALS) != 0u ? normal : p, 1.0);
+                hit = vec4((u.flags & CVC_FLAG_WRITE_NORMALS) != 0u ? normal : p, 1.0);
             }
         } else {
             // Composite: front-to-back "over" blending of classified, shaded samples.
@@ -224,15 +243,15 @@ void main() {
                 vec4 sampleColor = classify(valueAt(s, t), step);
                 if (sampleColor.a > 1.0 / 1024.0) {
                     // Gradients only for samples that contribute.
-                    vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm.xyz - p) : -s.dir;
+                    vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm - p) : -s.dir;
                     vec3 normal = normalAt(p, towardEye);
                     vec3 shaded = shadeCookTorrance(normal, towardEye, t + s.eyeDistance, sampleColor.rgb);
                     accumulated.rgb += (1.0 - accumulated.a) * sampleColor.a * shaded;
                     accumulated.a += (1.0 - accumulated.a) * sampleColor.a;
                     if (hit.w == 0.0 && accumulated.a >= 0.5) {
-                        hit = vec4((u.frame.w & CVC_FLAG_WRITE_NORMALS) != 0u ? normal : p, 1.0);
+                        hit = vec4((u.flags & CVC_FLAG_WRITE_NORMALS) != 0u ? normal : p, 1.0);
                     }
-                    if (accumulated.a >= u.adaptive.w) break;  // early ray termination
+                    if (accumulated.a >= u.opacityToStop) break;  // early ray termination
                 }
                 tPrev = t;
                 t += step;
@@ -242,5 +261,5 @@ void main() {
     }
     imageStore(colorImage, ivec2(pixel), vec4(pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0));
     if (kCountFetches) hit.w = float(gFetchCount);
-    if ((u.frame.w & CVC_FLAG_WRITE_HITS) != 0u) imageStore(hitImage, ivec2(pixel), hit);
+    if ((u.flags & CVC_FLAG_WRITE_HITS) != 0u) imageStore(hitImage, ivec2(pixel), hit);
 }

@@ -4,9 +4,9 @@
 #define TRANSFER_FUNCTION_GLSL
 
 vec4 classify(float hu, float stepMm) {
-    float x = (hu - u.transfer.x) * u.transfer.y + u.transfer.w;  // entry e at texel centre (e + .5) / n
+    float x = (hu - u.transferFirstHu) * u.transferIndexPerHu + u.transferHalfEntry;  // entry e at texel centre (e + .5) / n
     vec4 c = textureLod(transferFunction, vec2(x, 0.5), 0.0);
-    c.a = 1.0 - pow(max(1.0 - c.a, 0.0), stepMm / u.transfer.z);
+    c.a = 1.0 - pow(max(1.0 - c.a, 0.0), stepMm / u.transferReferenceStepMm);
     return c;
 }
 

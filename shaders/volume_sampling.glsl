@@ -6,7 +6,7 @@
 
 float huFromUnorm(float v) { return v * 65535.0 - 32768.0; }
 
-vec3 texFromMm(vec3 pMm) { return pMm * u.texFromMmScale.xyz + u.texFromMmOffset.xyz; }
+vec3 texFromMm(vec3 pMm) { return pMm * u.texFromMmScale + u.texFromMmOffset; }
 
 float fetchTrilinear(vec3 tc) {
     if (kCountFetches) ++gFetchCount;
@@ -22,7 +22,7 @@ struct BSplineAxes {
 };
 
 BSplineAxes bsplineAxes(vec3 tc) {
-    vec3 coord = tc * u.volumeDims.xyz - 0.5;  // voxel centres at integers
+    vec3 coord = tc * u.volumeDims - 0.5;  // voxel centres at integers
     BSplineAxes a;
     a.index = floor(coord);
     a.f = coord - a.index;
@@ -40,8 +40,8 @@ void bsplineWeights(BSplineAxes a, out vec3 g0, out vec3 g1, out vec3 p0, out ve
     vec3 w3 = f * f * f / 6.0;
     g0 = w0 + w1;
     g1 = w2 + w3;
-    p0 = (a.index - 1.0 + w1 / g0 + 0.5) / u.volumeDims.xyz;
-    p1 = (a.index + 1.0 + w3 / g1 + 0.5) / u.volumeDims.xyz;
+    p0 = (a.index - 1.0 + w1 / g0 + 0.5) / u.volumeDims;
+    p1 = (a.index + 1.0 + w3 / g1 + 0.5) / u.volumeDims;
 }
 
 // Sum of the 8 fetches at the corners spanned by p0 and p1, weighted per axis by g0 and g1.
@@ -82,7 +82,7 @@ float sampleHu(vec3 pMm) { return huFromUnorm(fetchFiltered(texFromMm(pMm))); }
 // docs/benchmarks.md.)
 vec3 gradientCentralHu(vec3 pMm, bool isTricubic) {
     vec3 tc = texFromMm(pMm);
-    vec3 h = 1.0 / u.volumeDims.xyz;
+    vec3 h = 1.0 / u.volumeDims;
     float dx, dy, dz;
     if (isTricubic) {
         dx = fetchTricubic(tc + vec3(h.x, 0, 0)) - fetchTricubic(tc - vec3(h.x, 0, 0));
@@ -93,11 +93,11 @@ vec3 gradientCentralHu(vec3 pMm, bool isTricubic) {
         dy = fetchTrilinear(tc + vec3(0, h.y, 0)) - fetchTrilinear(tc - vec3(0, h.y, 0));
         dz = fetchTrilinear(tc + vec3(0, 0, h.z)) - fetchTrilinear(tc - vec3(0, 0, h.z));
     }
-    return vec3(dx, dy, dz) * 65535.0 * 0.5 * u.invSpacingMm.xyz;
+    return vec3(dx, dy, dz) * 65535.0 * 0.5 * u.invSpacingMm;
 }
 
 bool isInsideBox(vec3 pMm) {
-    return all(greaterThanEqual(pMm, u.boxMinMm.xyz)) && all(lessThanEqual(pMm, u.boxMaxMm.xyz));
+    return all(greaterThanEqual(pMm, u.boxMinMm)) && all(lessThanEqual(pMm, u.boxMaxMm));
 }
 
 #endif

@@ -13,13 +13,29 @@
 
 namespace engine {
 
-static_assert(sizeof(shaders::RaycastUniforms) == 20 * 16, "RaycastUniforms must be 20 vec4s (std140)");
-static_assert(offsetof(shaders::RaycastUniforms, march) == 15 * 16, "march must follow the volume block");
-static_assert(offsetof(shaders::RaycastUniforms, frame) == 19 * 16, "frame must be the last vec4");
+// Every member's offset is compared with the compiled shader's reflection by a test
+// (tests/engine/uniform_layout_test.cpp); this catches a struct that no longer fills its slots.
+static_assert(sizeof(shaders::RaycastUniforms) == 17 * 16, "RaycastUniforms must be 17 16-byte slots (std140)");
 
 namespace {
 
-glm::vec4 vec4Of(const glm::dvec3& v, double w = 0.0) { return {glm::vec3(v), static_cast<float>(w)}; }
+/// The ray caster's bindings (shaders/host_device.h) and their descriptor types, in one place.
+constexpr std::pair<uint32_t, vk::DescriptorType> kRaycastBindings[] = {
+    {CVC_BINDING_UNIFORMS, vk::DescriptorType::eUniformBuffer},
+    {CVC_BINDING_VOLUME, vk::DescriptorType::eCombinedImageSampler},
+    {CVC_BINDING_COLOR_IMAGE, vk::DescriptorType::eStorageImage},
+    {CVC_BINDING_HIT_IMAGE, vk::DescriptorType::eStorageImage},
+    {CVC_BINDING_SKIP_DISTANCE, vk::DescriptorType::eCombinedImageSampler},
+    {CVC_BINDING_TRANSFER_FUNCTION, vk::DescriptorType::eCombinedImageSampler},
+    {CVC_BINDING_CUBE_MAP, vk::DescriptorType::eCombinedImageSampler},
+};
+
+/// The descriptor types by binding number, as ComputePipeline takes them.
+std::vector<vk::DescriptorType> raycastDescriptorTypes() {
+    std::vector<vk::DescriptorType> types(std::size(kRaycastBindings));
+    for (const auto& [binding, type] : kRaycastBindings) types.at(binding) = type;
+    return types;
+}
 
 void validate(const RenderSettings& s) {
     auto require = [](bool condition, const std::string& what) {
@@ -145,12 +161,7 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
         // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_GRADIENT.
         const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key), gradient};
         slot = std::make_unique<ComputePipeline>(
-            *mContext, raycast_spv,
-            std::vector<vk::DescriptorType>{vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eCombinedImageSampler,
-                                            vk::DescriptorType::eStorageImage, vk::DescriptorType::eStorageImage,
-                                            vk::DescriptorType::eCombinedImageSampler,
-                                            vk::DescriptorType::eCombinedImageSampler,
-                                            vk::DescriptorType::eCombinedImageSampler},
+            *mContext, raycast_spv, raycastDescriptorTypes(),
             0, "ray caster", constants, static_cast<uint32_t>(kMaxImagesInFlight));
     }
     return *slot;
@@ -323,35 +334,45 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     const double halfDistance = settings.lightHalfDistanceMm;
     const auto entries = static_cast<double>(table.rgba.size());
 
+    const auto f = [](double value) { return static_cast<float>(value); };
     shaders::RaycastUniforms u{};
-    u.eyeMm = vec4Of(rays.eyeMm, rays.nearMm);
-    u.wallOriginMm = vec4Of(rays.wallOriginMm);
-    u.wallUMm = vec4Of(rays.wallUMm);
-    u.wallVMm = vec4Of(rays.wallVMm);
-    u.wallNormal = vec4Of(wallNormal);
-    u.mapCentreMm = vec4Of(warp.mapCentreMm);
-    u.caveToVolume0 = vec4Of(warp.caveToVolume[0]);
-    u.caveToVolume1 = vec4Of(warp.caveToVolume[1]);
-    u.caveToVolume2 = vec4Of(warp.caveToVolume[2]);
-    u.boxMinMm = vec4Of(boxMin);
-    u.boxMaxMm = vec4Of(boxMax);
-    u.texFromMmScale = vec4Of(1.0 / (dims * spacing));
-    u.texFromMmOffset = vec4Of(0.5 / dims);
-    u.volumeDims = vec4Of(dims, settings.skipCellVoxels);
-    u.invSpacingMm = vec4Of(1.0 / spacing);
-    u.march = glm::vec4(static_cast<float>(stepMm), static_cast<float>(settings.isoHu),
-                        static_cast<float>(settings.refinementSteps), static_cast<float>(maxSteps));
-    u.adaptive = glm::vec4(static_cast<float>(minStepMm), static_cast<float>(settings.maxStepVoxels * minSpacing),
-                           static_cast<float>(pixelAngleOf(rays)), static_cast<float>(settings.earlyTerminationOpacity));
-    u.transfer = glm::vec4(static_cast<float>(table.firstHu),
-                           static_cast<float>((entries - 1.0) / (entries * (table.lastHu - table.firstHu))),
-                           1.0f, static_cast<float>(0.5 / entries));
-    u.shading = glm::vec4(halfDistance > 0.0 ? static_cast<float>(1.0 / (halfDistance * halfDistance)) : 0.0f,
-                          static_cast<float>(settings.roughness), static_cast<float>(settings.fresnel),
-                          static_cast<float>(settings.ambient));
-    u.frame = glm::uvec4(static_cast<uint32_t>(rays.width), static_cast<uint32_t>(rays.height), settings.jitterSeed,
-                         (settings.isWritingHits ? CVC_FLAG_WRITE_HITS : 0u) | (settings.isJittered ? CVC_FLAG_JITTER : 0u) |
-                             (settings.isWritingNormals ? CVC_FLAG_WRITE_NORMALS : 0u));
+    u.eyeMm = glm::vec3(rays.eyeMm);
+    u.nearMm = f(rays.nearMm);
+    u.wallOriginMm = glm::vec3(rays.wallOriginMm);
+    u.stepMm = f(stepMm);
+    u.wallUMm = glm::vec3(rays.wallUMm);
+    u.isoHu = f(settings.isoHu);
+    u.wallVMm = glm::vec3(rays.wallVMm);
+    u.refinementSteps = f(settings.refinementSteps);
+    u.wallNormal = glm::vec3(wallNormal);
+    u.maxSteps = f(maxSteps);
+    u.mapCentreMm = glm::vec3(warp.mapCentreMm);
+    u.minStepMm = f(minStepMm);
+    u.caveToVolume0 = glm::vec3(warp.caveToVolume[0]);
+    u.maxStepMm = f(settings.maxStepVoxels * minSpacing);
+    u.caveToVolume1 = glm::vec3(warp.caveToVolume[1]);
+    u.radiansPerPixel = f(pixelAngleOf(rays));
+    u.caveToVolume2 = glm::vec3(warp.caveToVolume[2]);
+    u.opacityToStop = f(settings.earlyTerminationOpacity);
+    u.boxMinMm = glm::vec3(boxMin);
+    u.transferFirstHu = f(table.firstHu);
+    u.boxMaxMm = glm::vec3(boxMax);
+    u.transferIndexPerHu = f((entries - 1.0) / (entries * (table.lastHu - table.firstHu)));
+    u.texFromMmScale = glm::vec3(1.0 / (dims * spacing));
+    u.transferReferenceStepMm = 1.0f;
+    u.texFromMmOffset = glm::vec3(0.5 / dims);
+    u.transferHalfEntry = f(0.5 / entries);
+    u.volumeDims = glm::vec3(dims);
+    u.skipCellVoxels = f(settings.skipCellVoxels);
+    u.invSpacingMm = glm::vec3(1.0 / spacing);
+    u.lightFalloffPerMm2 = halfDistance > 0.0 ? f(1.0 / (halfDistance * halfDistance)) : 0.0f;
+    u.roughness = f(settings.roughness);
+    u.fresnelF0 = f(settings.fresnel);
+    u.ambient = f(settings.ambient);
+    u.imageSize = glm::uvec2(static_cast<uint32_t>(rays.width), static_cast<uint32_t>(rays.height));
+    u.jitterSeed = settings.jitterSeed;
+    u.flags = (settings.isWritingHits ? CVC_FLAG_WRITE_HITS : 0u) | (settings.isJittered ? CVC_FLAG_JITTER : 0u) |
+              (settings.isWritingNormals ? CVC_FLAG_WRITE_NORMALS : 0u);
     slot.uniforms.write(std::as_bytes(std::span(&u, 1)));
 
     recordImageBarrier(commands, targets.color, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);

@@ -103,6 +103,20 @@ TEST(CliErrors, NoVulkanDriver) {
     EXPECT_FALSE(fs::exists(tmp("no_driver.png")));
 }
 
+TEST(CliErrors, BadStepAndLightDistanceAreRefusedNotReplacedByTheDefault) {
+    const fs::path volume = writeSmallVolume("bad_settings.nrrd");
+    const fs::path out = tmp("bad_settings.png");
+    for (const char* step : {"0", "-1", "nan"}) {
+        fs::remove(out);
+        expectOneLineError(runCvc("render " + volume.string() + " --size 8x8 --step " + step + " -o " + out.string()),
+                           "step must be 0.01..8 voxels");
+        EXPECT_FALSE(fs::exists(out)) << "--step " << step;
+    }
+    expectOneLineError(runCvc("render " + volume.string() + " --size 8x8 --light-distance -5 -o " + out.string()),
+                       "light half distance must be >= 0");
+    EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(CliErrors, UnknownDeviceNamesEveryCandidate) {
     const fs::path volume = writeSmallVolume("no_such_device.nrrd");
     const auto run = runCvc("render " + volume.string() + " -o " + tmp("x.png").string() +

@@ -1,0 +1,61 @@
+// The ray caster's uniform block: every member's offset in the C++ struct equals its offset in
+// the compiled shader, as glslang's reflection of raycast.comp reports it (generated at build
+// time), and the block's size matches. A member renamed, reordered or retyped on one side only
+// fails here, not as a wrong picture.
+#include <cstddef>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "host_device.h"
+
+namespace {
+
+#define CVC_MEMBER(name) {"u." #name, offsetof(shaders::RaycastUniforms, name)}
+
+// Every member the shader reads; `unused` pads the shading slot and is absent from the shader.
+const std::map<std::string, std::size_t> kCppOffsets = {
+    CVC_MEMBER(eyeMm),           CVC_MEMBER(nearMm),         CVC_MEMBER(wallOriginMm),
+    CVC_MEMBER(stepMm),          CVC_MEMBER(wallUMm),        CVC_MEMBER(isoHu),
+    CVC_MEMBER(wallVMm),         CVC_MEMBER(refinementSteps), CVC_MEMBER(wallNormal),
+    CVC_MEMBER(maxSteps),        CVC_MEMBER(mapCentreMm),    CVC_MEMBER(minStepMm),
+    CVC_MEMBER(caveToVolume0),   CVC_MEMBER(maxStepMm),      CVC_MEMBER(caveToVolume1),
+    CVC_MEMBER(radiansPerPixel), CVC_MEMBER(caveToVolume2),  CVC_MEMBER(opacityToStop),
+    CVC_MEMBER(boxMinMm),        CVC_MEMBER(transferFirstHu), CVC_MEMBER(boxMaxMm),
+    CVC_MEMBER(transferIndexPerHu), CVC_MEMBER(texFromMmScale), CVC_MEMBER(transferReferenceStepMm),
+    CVC_MEMBER(texFromMmOffset), CVC_MEMBER(transferHalfEntry), CVC_MEMBER(volumeDims),
+    CVC_MEMBER(skipCellVoxels),  CVC_MEMBER(invSpacingMm),   CVC_MEMBER(lightFalloffPerMm2),
+    CVC_MEMBER(roughness),       CVC_MEMBER(fresnelF0),      CVC_MEMBER(ambient),
+    CVC_MEMBER(imageSize),       CVC_MEMBER(jitterSeed),     CVC_MEMBER(flags),
+};
+
+#undef CVC_MEMBER
+
+TEST(UniformLayout, EveryOffsetEqualsTheCompiledShadersReflection) {
+    std::ifstream in(CVC_RAYCAST_REFLECTION);
+    ASSERT_TRUE(in) << "cannot read " << CVC_RAYCAST_REFLECTION;
+    const std::regex member(R"(^(u\.\w+): offset (-?\d+),)");
+    const std::regex block(R"(^Uniforms: offset -?\d+, type \w+, size (\d+),)");
+    std::map<std::string, std::size_t> reflected;
+    std::size_t blockSize = 0;
+    for (std::string line; std::getline(in, line);) {
+        std::smatch match;
+        if (std::regex_search(line, match, member)) reflected[match[1]] = std::stoul(match[2]);
+        if (std::regex_search(line, match, block)) blockSize = std::stoul(match[1]);
+    }
+    ASSERT_FALSE(reflected.empty()) << "no uniform members in " << CVC_RAYCAST_REFLECTION;
+    EXPECT_EQ(blockSize, sizeof(shaders::RaycastUniforms));
+    for (const auto& [name, offset] : reflected) {
+        const auto found = kCppOffsets.find(name);
+        ASSERT_NE(found, kCppOffsets.end()) << name << " is in the shader but not in the C++ table";
+        EXPECT_EQ(found->second, offset) << name << ": C++ offset " << found->second << ", shader offset " << offset;
+    }
+    for (const auto& [name, offset] : kCppOffsets) {
+        EXPECT_TRUE(reflected.count(name)) << name << " (C++ offset " << offset << ") is not read by the shader";
+    }
+}
+
+}  // namespace
