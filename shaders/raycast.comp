@@ -37,6 +37,7 @@ layout(binding = CVC_BINDING_CUBE_MAP) uniform samplerCube cubeMap;
 #include "cook_torrance.glsl"
 
 const vec3 kBackground = vec3(0.015, 0.017, 0.022);
+const int kStepsPerSkipCheck = 4;
 const vec3 kSurfaceColor = vec3(0.93, 0.60, 0.50);  // iso-surface albedo, a mucosa tone
 
 // The straight segment a ray marches: origin + t * dir for t in [tStart, tEnd]. In exact-warp
@@ -188,20 +189,26 @@ void main() {
             bool isPrevKnown = true;
             float vHit = vStart;
             t += (jitter > 0.0 ? jitter : 1.0) * stepAt(s, t);  // tStart itself was just sampled
-            for (int i = 0; i < maxSteps && !isHit && t <= s.tEnd; ++i) {
+            for (int i = 0; i < maxSteps && !isHit && t <= s.tEnd;) {
                 if (skipEmptySpace(s, invDir, tCheck, t, tPrev)) {
                     isPrevKnown = false;
+                    ++i;
                     continue;
                 }
-                float value = valueAt(s, t);
-                isHit = value >= iso;
-                if (!isHit) {
-                    tPrev = t;
-                    vPrev = value;
-                    isPrevKnown = true;
-                    t += stepAt(s, t);
+                // Up to kStepsPerSkipCheck plain steps before the distance map is looked at again:
+                // its lookup and cell arithmetic run for the whole vector whenever one ray needs
+                // them, so they are paid once per chunk, not once per step.
+                for (int k = 0; k < kStepsPerSkipCheck && !isHit && t <= s.tEnd; ++k, ++i) {
+                    float value = valueAt(s, t);
+                    isHit = value >= iso;
+                    if (!isHit) {
+                        tPrev = t;
+                        vPrev = value;
+                        isPrevKnown = true;
+                        t += stepAt(s, t);
+                    }
+                    vHit = value;
                 }
-                vHit = value;
             }
             if (isHit) {
                 float tHit = isInside ? s.tStart : t;
