@@ -20,10 +20,11 @@ SubmittedWork::SubmittedWork(const GpuContext& context, const std::function<void
 
 SubmittedWork::~SubmittedWork() {
     if (mIsFinished || mCommands.empty()) return;  // waited for, or moved from
-    // Destroying a command buffer that is still executing is undefined: wait without limit.
-    // A failure here has nowhere to go (a destructor must not throw); the device is lost anyway.
+    // A command buffer must not be destroyed while it executes, so wait, but within the same
+    // limit as wait(): a device that has not finished in 10 minutes is hung, and a hung program
+    // helps nobody. A failure here has nowhere to go (a destructor must not throw).
     try {
-        const vk::Result ignored = mContext->device().waitForFences(*mFence, VK_TRUE, UINT64_MAX);
+        const vk::Result ignored = mContext->device().waitForFences(*mFence, VK_TRUE, 600'000'000'000ull);
         (void)ignored;
     } catch (const vk::SystemError&) {
     }

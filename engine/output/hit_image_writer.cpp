@@ -44,6 +44,19 @@ std::vector<unsigned char> gzipped(std::span<const std::byte> bytes) {
     return out;
 }
 
+/// Writes a NRRD of float vectors: `components` per pixel of a width x height image, the payload
+/// as given (raw, or already gzip-compressed for encoding "gzip").
+void writeVectorNrrd(const std::string& path, const std::string& comment, int components, int width, int height,
+                     const std::string& encoding, std::span<const std::byte> payload) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path + ": cannot open for writing (" + std::strerror(errno) + ")");
+    out << "NRRD0004\n# " << comment << "\ntype: float\ndimension: 3\nsizes: " << components << ' ' << width << ' '
+        << height << "\nkinds: " << components << "-vector domain domain\nendian: little\nencoding: " << encoding
+        << "\n\n";
+    out.write(reinterpret_cast<const char*>(payload.data()), static_cast<std::streamsize>(payload.size()));
+    if (!out) throw std::runtime_error(path + ": write failed (disk full?)");
+}
+
 }  // namespace
 
 void writeHitPositionsNrrd(const std::string& path, int width, int height, std::span<const float> hitMm,
@@ -59,27 +72,15 @@ void writeHitPositionsNrrd(const std::string& path, int width, int height, std::
         for (std::size_t c = 0; c < 3; ++c) xyz[3 * i + c] = isHit ? hitMm[4 * i + c] : miss;
     }
     const std::vector<unsigned char> payload = gzipped(std::as_bytes(std::span(xyz)));
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot open for writing (" + std::strerror(errno) + ")");
-    out << "NRRD0004\n"
-        << "# first-hit positions in volume millimetres (x, y, z); NaN where the ray missed\n"
-        << "type: float\ndimension: 3\nsizes: 3 " << width << ' ' << height << '\n'
-        << "kinds: 3-vector domain domain\nendian: little\nencoding: gzip\n\n";
-    out.write(reinterpret_cast<const char*>(payload.data()), static_cast<std::streamsize>(payload.size()));
-    if (!out) throw std::runtime_error(path + ": write failed (disk full?)");
+    writeVectorNrrd(path, "first-hit positions in volume millimetres (x, y, z); NaN where the ray missed", 3, width,
+                    height, "gzip", std::as_bytes(std::span(payload)));
 }
 
 void writeHitImageNrrd(const std::string& path, int width, int height, std::span<const float> hitMm, bool overwrite) {
     static_assert(std::endian::native == std::endian::little, "the writer assumes a little-endian host");
     checkHitImage(path, width, height, hitMm, overwrite);
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot open for writing (" + std::strerror(errno) + ")");
-    out << "NRRD0004\n"
-        << "# first-hit positions in volume millimetres (x, y, z) and a hit flag (1 hit, 0 miss)\n"
-        << "type: float\ndimension: 3\nsizes: 4 " << width << ' ' << height << '\n'
-        << "kinds: 4-vector domain domain\nendian: little\nencoding: raw\n\n";
-    out.write(reinterpret_cast<const char*>(hitMm.data()), static_cast<std::streamsize>(hitMm.size_bytes()));
-    if (!out) throw std::runtime_error(path + ": write failed (disk full?)");
+    writeVectorNrrd(path, "first-hit positions in volume millimetres (x, y, z) and a hit flag (1 hit, 0 miss)", 4, width,
+                    height, "raw", std::as_bytes(hitMm));
 }
 
 }  // namespace engine

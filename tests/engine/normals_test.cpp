@@ -15,6 +15,7 @@
 #include "engine/render/pinhole_camera.h"
 #include "engine/render/raycaster.h"
 #include "engine/render/volume_texture.h"
+#include "tests/support/gpu_scene.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "volumes/analytic_phantom.h"
 #include "volumes/brick_minmax.h"
@@ -23,15 +24,7 @@ namespace {
 
 constexpr double kDegPerRad = 57.29577951308232;
 
-struct Scene {
-    Scene(const engine::GpuContext& context, volumes::Volume v)
-        : volume(std::move(v)), bricks(volumes::buildBrickMinMax(volume)), texture(context, volume),
-          raycaster(context, volume, texture, bricks) {}
-    volumes::Volume volume;
-    volumes::BrickMinMax bricks;
-    engine::VolumeTexture texture;
-    engine::Raycaster raycaster;
-};
+using Scene = testing_support::GpuScene;
 
 /// Per hit pixel: the first-hit position and the shading normal (two renders of one view).
 struct NormalImage {

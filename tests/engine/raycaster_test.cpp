@@ -12,6 +12,7 @@
 #include "engine/render/raycaster.h"
 #include "engine/render/view_rays.h"
 #include "engine/render/volume_texture.h"
+#include "tests/support/gpu_scene.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "tests/support/image_compare.h"
 #include "volumes/analytic_phantom.h"
@@ -25,16 +26,7 @@ using testing_support::GpuTest;
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// A volume on the device with its ray caster.
-struct Scene {
-    Scene(const engine::GpuContext& context, volumes::Volume v)
-        : volume(std::move(v)), bricks(volumes::buildBrickMinMax(volume)), texture(context, volume),
-          raycaster(context, volume, texture, bricks) {}
-    volumes::Volume volume;
-    volumes::BrickMinMax bricks;
-    engine::VolumeTexture texture;
-    engine::Raycaster raycaster;
-};
+using Scene = testing_support::GpuScene;
 
 volumes::BallSpec ballSpec() {
     volumes::BallSpec spec;
