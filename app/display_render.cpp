@@ -109,7 +109,6 @@ void runDisplayRender(const RenderOptions& options) {
         raycaster.setCubeMap(map.size, map.rgba);
     }
 
-
     InterruptGuard interruptGuard;
     std::optional<ProgressBar> progress;  // made at the first report, which says how many frames were kept
     engine::SequenceHooks hooks;
