@@ -35,9 +35,15 @@ struct NormalImage {
     std::vector<bool> isHit;
 };
 
-NormalImage renderNormals(Scene& scene, const engine::PinholeCamera& camera, engine::GradientFilter gradient) {
+NormalImage renderNormals(Scene& scene, const engine::PinholeCamera& camera, engine::GradientFilter gradient,
+                          engine::RenderMode mode = engine::RenderMode::IsoSurface) {
     engine::RenderSettings settings;
-    settings.isoHu = 0.0;
+    settings.mode = mode;  // composite: the colon-wall transfer function; the hit is where opacity reaches 0.5
+    // The product's iso value. At the profile's inflection point (HU 0 here) both kinds of normal
+    // carry a ~0.7 degree bias: a one-voxel central difference's truncation error (h^2 / 6 times
+    // the profile's third derivative) is largest there relative to the gradient, and differs per
+    // axis with the normal's direction.
+    settings.isoHu = -500.0;
     settings.stepVoxels = 0.25;
     settings.gradient = gradient;
     const engine::ViewRays rays = engine::viewRaysFrom(camera);
@@ -139,6 +145,10 @@ TEST_F(Normals, CoarseBallAndTubeWithinOneDegreeOfTheClosedForm) {
         ball.volume, renderNormals(ball, outside, engine::GradientFilter::BSpline), outside, radial);
     const AngleError ballCentral = normalError(
         ball.volume, renderNormals(ball, outside, engine::GradientFilter::Central), outside, radial);
+    // Composite mode shades its samples with the same normals.
+    const AngleError ballComposite = normalError(
+        ball.volume, renderNormals(ball, outside, engine::GradientFilter::BSpline, engine::RenderMode::Composite),
+        outside, radial);
 
     // Seen from inside: the lumen (air) within the radius, so the normal points to the axis.
     const glm::dvec2 axis(39.3, 38.6);
@@ -159,20 +169,19 @@ TEST_F(Normals, CoarseBallAndTubeWithinOneDegreeOfTheClosedForm) {
     const AngleError tubeCentral = normalError(
         tube.volume, renderNormals(tube, inside, engine::GradientFilter::Central), inside, inward);
 
-    // Within 1 degree (the median), and no worse than 1.5 degrees at the 99th percentile; the
-    // trilinear central differences' figures are reported beside (on data this smooth they are
-    // close: the slab below is where they part).
+    // Within 1 degree at the 99th percentile; the trilinear central differences' figures are
+    // reported beside (on data this smooth they are close: the slab below is where they part).
     const auto report = [](const char* what, const AngleError& bspline, const AngleError& central) {
         return std::string(what) + ": B-spline median " + std::to_string(bspline.median) + ", p99 " +
                std::to_string(bspline.p99) + " deg; trilinear central differences median " +
                std::to_string(central.median) + ", p99 " + std::to_string(central.p99) + " deg";
     };
     RecordProperty("ball", report("ball", ballBSpline, ballCentral));
+    RecordProperty("ball_composite", report("ball, composite", ballComposite, ballCentral));
     RecordProperty("tube", report("tube", tubeBSpline, tubeCentral));
-    EXPECT_LT(ballBSpline.median, 1.0) << report("ball", ballBSpline, ballCentral);
-    EXPECT_LT(ballBSpline.p99, 1.5) << report("ball", ballBSpline, ballCentral);
-    EXPECT_LT(tubeBSpline.median, 1.0) << report("tube", tubeBSpline, tubeCentral);
-    EXPECT_LT(tubeBSpline.p99, 1.5) << report("tube", tubeBSpline, tubeCentral);
+    EXPECT_LT(ballBSpline.p99, 1.0) << report("ball", ballBSpline, ballCentral);
+    EXPECT_LT(ballComposite.p99, 1.0) << report("ball, composite", ballComposite, ballCentral);
+    EXPECT_LT(tubeBSpline.p99, 1.0) << report("tube", tubeBSpline, tubeCentral);
 }
 
 TEST_F(Normals, NormalsTurnSmoothlyAcrossVoxelLayersOfATiltedSlab) {
