@@ -37,8 +37,8 @@ layout(binding = CVC_BINDING_CUBE_MAP) uniform samplerCube cubeMap;
 #include "cook_torrance.glsl"
 
 const vec3 kBackground = vec3(0.015, 0.017, 0.022);
-const int kStepsPerSkipCheck = 4;
 const vec3 kSurfaceColor = vec3(0.93, 0.60, 0.50);  // iso-surface albedo, a mucosa tone
+const int kStepsPerSkipCheck = 4;  // iso march: plain steps between looks at the empty-space map
 
 // The straight segment a ray marches: origin + t * dir for t in [tStart, tEnd]. In exact-warp
 // mode it is the undistorted ray, and every sample point is mapped through W.

@@ -106,6 +106,22 @@ std::vector<RenderRequest> wallRequests(const Display& display, const ScenePose&
     return requests;
 }
 
+/// Throws SequenceCancelled when the caller's hook asks to stop.
+void throwIfCancelled(const SequenceHooks& hooks) {
+    if (hooks.isCancelled && hooks.isCancelled()) throw SequenceCancelled("cancelled");
+}
+
+/// `images` rendered for `eyes` (eye after eye, walls in the display's order), labelled.
+std::vector<WallImage> labelledWalls(const Display& display, std::span<const Eye> eyes,
+                                     std::vector<RenderedImage> images) {
+    std::vector<WallImage> walls;
+    std::size_t i = 0;
+    for (Eye eye : eyes) {
+        for (const auto& wall : display.walls) walls.push_back({eye, wall.name, std::move(images.at(i++))});
+    }
+    return walls;
+}
+
 /// One frame on its way: what was asked of the device, and the images once collected.
 struct FrameInFlight {
     int index = 0;
@@ -144,6 +160,7 @@ class FrameWriter {
 public:
     FrameWriter(const SequenceJob& job, const fs::path& folder, const SequenceHooks& hooks)
         : mJob(job), mFolder(folder), mHooks(hooks), mReduction(sheetReduction(job.display, 1000)),
+          mSheetDisplay(scaledDisplay(job.display, mReduction)),
           mThreads(std::max(1u, std::thread::hardware_concurrency())) {}
 
     void write(FrameInFlight& frame) {
@@ -160,10 +177,6 @@ public:
     }
 
 private:
-    void checkCancel() const {
-        if (mHooks.isCancelled && mHooks.isCancelled()) throw SequenceCancelled("cancelled");
-    }
-
     void writeInto(FrameInFlight& frame, const fs::path& partial) {
         const auto& walls = mJob.display.walls;
         const std::size_t wallCount = walls.size();
@@ -174,7 +187,7 @@ private:
         std::vector<std::function<void()>> tasks;
         for (std::size_t i = 0; i < 2 * wallCount; ++i) {
             tasks.emplace_back([&, i] {
-                checkCancel();
+                throwIfCancelled(mHooks);
                 const fs::path eyeFolder = partial / eyeText(kStereoEyes[i / wallCount]);
                 const std::string wallName = wallNameText(walls[i % wallCount].name);
                 RenderedImage& image = frame.images[i];
@@ -187,23 +200,22 @@ private:
                 reduced[i] = downsampled(toRgba(std::move(image)), mReduction);
             });
         }
-        std::optional<RgbaImage> beforeAfter;
         if (frame.images.size() == 4 * wallCount) {
             tasks.emplace_back([&] {
-                checkCancel();
+                throwIfCancelled(mHooks);
                 std::map<WallName, RgbaImage> before, after;
                 for (std::size_t w = 0; w < wallCount; ++w) {
                     before[walls[w].name] = downsampled(toRgba(std::move(frame.images[2 * wallCount + w])), mReduction);
                     after[walls[w].name] = downsampled(toRgba(std::move(frame.images[3 * wallCount + w])), mReduction);
                 }
-                const Display sheetDisplay = scaledDisplay(mJob.display, mReduction);
-                beforeAfter = sideBySide({crossLayout(sheetDisplay, before), crossLayout(sheetDisplay, after)}, 16);
-                writePng((partial / "before_after.png").string(), beforeAfter->width, beforeAfter->height,
-                         beforeAfter->rgba, true, mJob.png);
+                const RgbaImage beforeAfter =
+                    sideBySide({crossLayout(mSheetDisplay, before), crossLayout(mSheetDisplay, after)}, 16);
+                writePng((partial / "before_after.png").string(), beforeAfter.width, beforeAfter.height,
+                         beforeAfter.rgba, true, mJob.png);
             });
         }
         runParallel(tasks, mThreads);
-        checkCancel();
+        throwIfCancelled(mHooks);
 
         // The review sheet: left eye, right eye, anaglyph.
         std::map<Eye, std::map<WallName, RgbaImage>> sheetWalls;
@@ -214,10 +226,9 @@ private:
         for (const auto& [name, left] : sheetWalls[Eye::Left]) {
             anaglyph[name] = anaglyphOf(left, sheetWalls[Eye::Right].at(name));
         }
-        const Display sheetDisplay = scaledDisplay(mJob.display, mReduction);
-        const RgbaImage sheet = sideBySide({crossLayout(sheetDisplay, sheetWalls[Eye::Left]),
-                                            crossLayout(sheetDisplay, sheetWalls[Eye::Right]),
-                                            crossLayout(sheetDisplay, anaglyph)},
+        const RgbaImage sheet = sideBySide({crossLayout(mSheetDisplay, sheetWalls[Eye::Left]),
+                                            crossLayout(mSheetDisplay, sheetWalls[Eye::Right]),
+                                            crossLayout(mSheetDisplay, anaglyph)},
                                            16);
         writePng((partial / "sheet.png").string(), sheet.width, sheet.height, sheet.rgba, true, mJob.png);
     }
@@ -226,6 +237,7 @@ private:
     fs::path mFolder;
     const SequenceHooks& mHooks;
     int mReduction;
+    Display mSheetDisplay;  // the display's walls at the sheets' reduced size
     unsigned mThreads;
 };
 
@@ -242,13 +254,7 @@ std::vector<WallImage> renderWalls(Raycaster& raycaster, const Display& display,
     validateDisplay(display);
     const std::vector<RenderRequest> requests = wallRequests(display, pose, eyes, settings, warpMode);
     RenderBatch batch = raycaster.submit(requests);
-    std::vector<RenderedImage> rendered = raycaster.collect(batch);
-    std::vector<WallImage> images;
-    std::size_t i = 0;
-    for (Eye eye : eyes) {
-        for (const auto& wall : display.walls) images.push_back({eye, wall.name, std::move(rendered[i++])});
-    }
-    return images;
+    return labelledWalls(display, eyes, raycaster.collect(batch));
 }
 
 std::string frameFolderName(int index) {
@@ -338,9 +344,6 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
     const bool isWritingBeforeAfter = job.isWritingBeforeAfter && job.display.map != conformal::MapKind::None;
     const std::size_t stereoCount = 2 * job.display.walls.size();
     FrameWriter writer(job, folder, hooks);
-    const auto checkCancel = [&] {
-        if (hooks.isCancelled && hooks.isCancelled()) throw SequenceCancelled("cancelled");
-    };
 
     // The device renders frame i while the host writes frame i - 1.
     const auto submitFrame = [&](int index) {
@@ -363,12 +366,9 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
         frame.batch.reset();
         for (std::size_t i = 0; i < stereoCount; ++i) summary.rayCastingMs += std::max(frame.images[i].deviceMs, 0.0);
         if (hooks.onFrame) {
-            std::vector<WallImage> walls;
-            std::size_t i = 0;
-            for (Eye eye : kStereoEyes) {
-                for (const auto& wall : job.display.walls) walls.push_back({eye, wall.name, frame.images[i++]});
-            }
-            hooks.onFrame(frame.index, walls);
+            std::vector<RenderedImage> stereo(frame.images.begin(),
+                                              frame.images.begin() + static_cast<std::ptrdiff_t>(stereoCount));
+            hooks.onFrame(frame.index, labelledWalls(job.display, kStereoEyes, std::move(stereo)));
         }
     };
     const auto writeFrame = [&](FrameInFlight& frame) {
@@ -380,7 +380,7 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
 
     std::unique_ptr<FrameInFlight> ready;  // collected, not yet written
     for (int index : pending) {
-        checkCancel();
+        throwIfCancelled(hooks);
         auto next = std::make_unique<FrameInFlight>(submitFrame(index));
         if (ready) writeFrame(*ready);
         collectFrame(*next);

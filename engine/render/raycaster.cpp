@@ -257,7 +257,6 @@ RenderBatch Raycaster::submit(std::span<const RenderRequest> requests) {
         pipelineFor(settings, requests[i].warp.mode);
     }
     batch.mWork.emplace(*mContext, [&](const vk::raii::CommandBuffer& commands) {
-        recordImageBarrier(commands, mNoHitImage, vk::ImageLayout::eGeneral, vk::ImageLayout::eGeneral);
         for (std::size_t i = 0; i < requests.size(); ++i) recordRequest(commands, requests[i], batch.mSlots[i]);
     });
     return batch;
