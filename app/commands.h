@@ -12,5 +12,6 @@ void addRenderCommand(CLI::App& program);
 void addPhantomCommand(CLI::App& program);
 void addInfoCommand(CLI::App& program);
 void addBakeCommand(CLI::App& program);
+void addColonCommand(CLI::App& program);
 
 }  // namespace app

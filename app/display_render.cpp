@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include "app/colon_command.h"
 #include "app/option_parsing.h"
 #include "app/progress_bar.h"
 #include "app/render_options.h"
@@ -61,9 +62,39 @@ std::vector<engine::CameraPose> posesFrom(const RenderOptions& options) {
     return engine::posesFor(request);
 }
 
+/// `--path auto`: the colon analysis of the volume in OUT/colon/ (reused on --resume), and the
+/// options that fly along its centreline, through the cleansed volume where fluid was cleansed.
+RenderOptions withAutomaticPath(const RenderOptions& given) {
+    RenderOptions options = given;
+    ColonRequest request;
+    request.volumePath = given.volumePath;
+    request.rawSpec = given.rawSpec;
+    request.outFolder = (std::filesystem::path(given.outPath) / "colon").string();
+    request.force = given.force;
+    request.resume = given.resume;
+    const ColonOutputs outputs = runColonAnalysis(request);
+    options.pathFile = outputs.colonJson;
+    if (!outputs.cleansedNrrd.empty()) {
+        options.volumePath = outputs.cleansedNrrd;
+        options.rawSpec.clear();
+    }
+    return options;
+}
+
 }  // namespace
 
-void runDisplayRender(const RenderOptions& options) {
+void runDisplayRender(const RenderOptions& givenOptions) {
+    // --path auto writes its analysis into the output folder: refuse an occupied folder first.
+    const bool isAutomaticPath = givenOptions.pathFile == "auto";
+    if (isAutomaticPath) {
+        const std::filesystem::path folder(givenOptions.outPath);
+        const bool isOccupied = std::filesystem::exists(folder) && !std::filesystem::is_empty(folder);
+        if (isOccupied && !givenOptions.force && !givenOptions.resume) {
+            throw std::runtime_error(givenOptions.outPath +
+                                     ": exists and is not empty (pass --resume to continue it or --force to replace it)");
+        }
+    }
+    const RenderOptions options = isAutomaticPath ? withAutomaticPath(givenOptions) : givenOptions;
     engine::Display display = engine::loadDisplay(options.display);
     if (!options.map.empty()) display.map = conformal::mapKindFromName(options.map);
     engine::validateDisplay(display);
@@ -86,7 +117,8 @@ void runDisplayRender(const RenderOptions& options) {
                         ? "baked, " + std::to_string(options.mapSize) + "^2 per face"
                         : std::filesystem::absolute(options.cubeMapFile).string();
 
-    const engine::SequenceOutput output{options.outPath, options.force, options.resume};
+    engine::SequenceOutput output{options.outPath, options.force, options.resume, {}};
+    if (isAutomaticPath) output.companions = {"colon"};
     engine::checkSequenceOutput(job, output);  // before the volume loads: a refusal comes at once
 
     volumes::LoadOptions load;

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     app::addPhantomCommand(program);
     app::addInfoCommand(program);
     app::addBakeCommand(program);
+    app::addColonCommand(program);
 
     try {
         program.parse(argc, argv);

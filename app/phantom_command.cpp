@@ -27,6 +27,13 @@ struct PhantomOptions {
     std::vector<std::string> polyps;
     double noiseSigmaHu = 15.0;
     std::uint64_t seed = 1;
+    // Anatomy around the colon (colon only), for segmentation and centreline tests.
+    std::uint64_t shapeSeed = 0;
+    bool body = false;
+    bool lung = false;
+    std::vector<std::string> collapses;
+    std::vector<std::string> fluidPools;
+    bool anatomy = false;
     bool force = false;
 };
 
@@ -39,6 +46,24 @@ void writeVolume(const volumes::Volume& volume, const std::string& path, bool fo
         volumes::writeVdb(volume, path, force);
     } else {
         volumes::writeNrrd(volume, path, force);
+    }
+}
+
+/// --anatomy first (body, lungs, its collapse and pool), then the single options on top:
+/// --collapse and --fluid replace the anatomy's defaults, as --polyp replaces the default polyps.
+void applyAnatomyOptions(const PhantomOptions& options, volumes::ColonPhantomSpec& spec) {
+    if (options.anatomy) spec = volumes::ColonPhantomSpec::withAnatomy(spec);
+    spec.shapeSeed = options.shapeSeed;
+    spec.hasBody = spec.hasBody || options.body;
+    spec.hasLung = spec.hasLung || options.lung;
+    if (!options.collapses.empty()) {
+        spec.collapses.clear();
+        for (const std::string& text : options.collapses) spec.collapses.push_back(volumes::parseCollapseSpec(text));
+    }
+    if (!options.fluidPools.empty()) {
+        spec.fluidPools.clear();
+        for (const std::string& text : options.fluidPools)
+            spec.fluidPools.push_back(volumes::parseFluidPoolSpec(text));
     }
 }
 
@@ -56,6 +81,7 @@ void runColon(const PhantomOptions& options) {
         spec.polyps.clear();
         for (const std::string& text : options.polyps) spec.polyps.push_back(volumes::parsePolypSpec(text));
     }
+    applyAnatomyOptions(options, spec);
     const auto start = std::chrono::steady_clock::now();
     const volumes::ColonPhantom phantom = volumes::makeColonPhantom(spec);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -124,6 +150,20 @@ void addPhantomCommand(CLI::App& program) {
         ->check(CLI::Range(0.0, 200.0))
         ->capture_default_str();
     command->add_option("--seed", options->seed, "Colon noise seed")->capture_default_str();
+    command->add_option("--shape-seed", options->shapeSeed,
+                        "Colon shape: 0 the standard curve, N > 0 its control points moved by up to 5% of the grid")
+        ->capture_default_str();
+    command->add_flag("--body", options->body, "Colon: an elliptic body outline with air outside it");
+    command->add_flag("--lung", options->lung, "Colon: two lung bases (-860 HU) at the top of the grid");
+    command->add_option("--collapse", options->collapses,
+                        "Colon: a collapsed stretch POSITION[:LENGTH_MM] (default 12 mm) with no air, splitting "
+                        "the lumen; repeat for several");
+    command->add_option("--fluid", options->fluidPools,
+                        "Colon: tagged fluid (+600 HU) POSITION[:LENGTH_MM[:DEPTH_MM]] (default 40 mm, 6 mm deep) "
+                        "in the lumen's lowest part; repeat for several");
+    command->add_flag("--anatomy", options->anatomy,
+                      "Colon: --body --lung --collapse 0.42:12 --fluid 0.238:40:6 (--collapse and --fluid "
+                      "replace these defaults)");
     command->add_flag("--force", options->force, "Replace existing output files");
     command->callback([options] { runPhantom(*options); });
 }

@@ -163,13 +163,15 @@ void addRenderCommand(CLI::App& program) {
         ->capture_default_str()->group(display);
     command->add_flag("--before-after", options->isWritingBeforeAfter,
                       "Also write before_after.png: the centre eye's walls without and with the map")->group(display);
-    command->add_option("--path", options->pathFile, "Centreline: a phantom's JSON ground truth or a text file of x y z")
+    command->add_option("--path", options->pathFile,
+                        "Centreline: a phantom's JSON ground truth, cvc colon's colon.json, a text file of x y z, or "
+                        "auto (run cvc colon on the volume into OUT/colon and fly along its centreline)")
         ->group(display);
     command->add_option("--path-step", options->pathStepMm, "Arc length between frames in mm")
         ->capture_default_str()->group(display);
     command->add_option("--smoothing", options->smoothingMm, "Half-width in mm of the view-direction smoothing")
         ->capture_default_str()->group(display);
-    command->add_flag("--retrograde", options->isRetrograde, "Fly from the path's end to its start")->group(display);
+    command->add_flag("--retrograde", options->isRetrograde, "Fly caecum -> rectum (default: antegrade, rectum -> caecum)")->group(display);
     command->add_option("--frames", options->maxFrames, "Render at most this many frames of the path")->group(display);
     command->add_option("--polyp", options->polyp,
                         "One pose on the path from which polyp N of its ground truth is seen ahead and above")

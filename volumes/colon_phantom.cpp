@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -152,20 +154,321 @@ double foldIntrusion(const ColonPhantomSpec& spec, const std::vector<Fold>& fold
     return intrusion;
 }
 
+/// SplitMix64's finaliser: a counter-based hash, so value n depends only on (seed, n).
+std::uint64_t mix(std::uint64_t z) {
+    z += 0x9e3779b97f4a7c15ULL;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
 /// Counter-based Gaussian noise: voxel n always gets the same value for a seed, whichever
 /// thread computes it.
 double gaussianAt(std::uint64_t seed, std::uint64_t n) {
-    auto mix = [](std::uint64_t z) {
-        z += 0x9e3779b97f4a7c15ULL;
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-        return z ^ (z >> 31);
-    };
     const std::uint64_t a = mix(seed * 0x632be59bd9b4e019ULL ^ n);
     const std::uint64_t b = mix(a);
     const double u1 = (static_cast<double>(a >> 11) + 0.5) * (1.0 / 9007199254740992.0);
     const double u2 = static_cast<double>(b >> 11) * (1.0 / 9007199254740992.0);
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+}
+
+/// Uniform in [-1, 1) from (seed, n); its own multiplier keeps it independent of the noise.
+double signedUnitAt(std::uint64_t seed, std::uint64_t n) {
+    const std::uint64_t h = mix(seed * 0xd1342543de82ef95ULL ^ n);
+    return static_cast<double>(h >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+}
+
+std::string mm(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f mm", value);
+    return text;
+}
+
+/// The centreline's control points in millimetres: ascending colon, hepatic flexure,
+/// transverse colon, splenic flexure, descending colon (fractions of the grid's extent).
+/// A shape seed moves each point by a hashed offset, then keeps it `marginMm` inside the grid;
+/// the offsets (x at most 0.05 of the extent) cannot bring the caecum (x 0.28) to the left of
+/// the rectal end (x 0.74), so the colon keeps its handedness.
+std::vector<glm::dvec3> controlPointsMm(std::uint64_t shapeSeed, const glm::dvec3& extent, double marginMm) {
+    const std::vector<glm::dvec3> controls = {{0.28, 0.50, 0.13}, {0.24, 0.42, 0.34}, {0.30, 0.58, 0.58},
+                                              {0.36, 0.48, 0.80}, {0.55, 0.40, 0.84}, {0.70, 0.56, 0.72},
+                                              {0.76, 0.46, 0.48}, {0.72, 0.52, 0.26}, {0.74, 0.48, 0.13}};
+    const glm::dvec3 amplitude(0.05, 0.05, 0.03);
+    std::vector<glm::dvec3> points;
+    for (std::size_t i = 0; i < controls.size(); ++i) {
+        glm::dvec3 c = controls[i];
+        if (shapeSeed != 0) {
+            for (int a = 0; a < 3; ++a) c[a] += amplitude[a] * signedUnitAt(shapeSeed, 3 * i + static_cast<std::size_t>(a));
+        }
+        glm::dvec3 p = c * extent;
+        if (shapeSeed != 0) p = glm::clamp(p, glm::dvec3(marginMm), glm::max(extent - marginMm, glm::dvec3(marginMm)));
+        points.push_back(p);
+    }
+    return points;
+}
+
+/// A collapse after validation: the lumen is closed over [closedStartMm, closedEndMm].
+struct Collapse {
+    double closedStartMm, closedEndMm;
+    double taperStartMm() const { return closedStartMm - kCollapseTaperMm; }
+    double taperEndMm() const { return closedEndMm + kCollapseTaperMm; }
+};
+
+/// Signed distance (mm, negative inside) to the body's elliptic outline in the x-y plane,
+/// to first order: (q - 1) / |grad q| with q the ellipse's normalised radius.
+double bodyDistance(const BodyTruth& body, double x, double y) {
+    const double u = (x - body.centreMm.x) / body.semiAxesMm.x, v = (y - body.centreMm.y) / body.semiAxesMm.y;
+    const double q = std::sqrt(u * u + v * v);
+    if (q < 1e-9) return -std::min(body.semiAxesMm.x, body.semiAxesMm.y);
+    const double gradient = std::hypot(u / body.semiAxesMm.x, v / body.semiAxesMm.y) / q;
+    return (q - 1.0) / gradient;
+}
+
+/// The same first-order signed distance for a lung's ellipsoid.
+double lungDistance(const LungTruth& lung, const glm::dvec3& p) {
+    const glm::dvec3 u = (p - lung.centreMm) / lung.semiAxesMm;
+    const double q = glm::length(u);
+    if (q < 1e-9) return -std::min({lung.semiAxesMm.x, lung.semiAxesMm.y, lung.semiAxesMm.z});
+    return (q - 1.0) / (glm::length(u / lung.semiAxesMm) / q);
+}
+
+/// Lung bases as a scan of the abdomen cuts them: two ellipsoids centred above the top face,
+/// posterior (large y) and lateral, where the colon does not reach (fractions of the extent).
+std::vector<LungTruth> lungBases(const glm::dvec3& extent) {
+    const glm::dvec3 semiAxes = glm::dvec3(0.12, 0.08, 0.30) * extent;
+    const double y = 0.78 * extent.y, z = 1.12 * extent.z;
+    return {{"right", {0.30 * extent.x, y, z}, semiAxes}, {"left", {0.70 * extent.x, y, z}, semiAxes}};
+}
+
+/// Points on the part of a lung inside the grid: its ellipsoid surface below the top face and
+/// the disc where the top face cuts it, about every millimetre. Whatever is nearest to the
+/// lung lies nearest to one of these (to within the sampling step).
+std::vector<glm::dvec3> lungBoundarySamples(const LungTruth& lung, double topMm) {
+    std::vector<glm::dvec3> samples;
+    const double largest = std::max({lung.semiAxesMm.x, lung.semiAxesMm.y, lung.semiAxesMm.z});
+    const int around = std::max(16, static_cast<int>(std::ceil(2.0 * kPi * largest)));
+    for (int a = 0; a <= around / 2; ++a) {
+        const double polar = kPi * a / (around / 2);
+        for (int b = 0; b < around; ++b) {
+            const double azimuth = 2.0 * kPi * b / around;
+            const glm::dvec3 p = lung.centreMm + lung.semiAxesMm * glm::dvec3(std::sin(polar) * std::cos(azimuth),
+                                                                               std::sin(polar) * std::sin(azimuth),
+                                                                               std::cos(polar));
+            if (p.z <= topMm) samples.push_back(p);
+        }
+    }
+    const double h = (topMm - lung.centreMm.z) / lung.semiAxesMm.z;
+    if (std::abs(h) < 1.0) {
+        const double scale = std::sqrt(1.0 - h * h);
+        const int rings = static_cast<int>(std::ceil(largest * scale));
+        for (int r = 0; r <= rings; ++r)
+            for (int b = 0; b < around; ++b) {
+                const double azimuth = 2.0 * kPi * b / around, f = scale * r / std::max(rings, 1);
+                samples.push_back({lung.centreMm.x + f * lung.semiAxesMm.x * std::cos(azimuth),
+                                   lung.centreMm.y + f * lung.semiAxesMm.y * std::sin(azimuth), topMm});
+            }
+    }
+    return samples;
+}
+
+double polylineDistance(const std::vector<glm::dvec3>& line, const glm::dvec3& p) {
+    double best = std::numeric_limits<double>::max(), t = 0.0;
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) best = std::min(best, segmentDistance(p, line[i], line[i + 1], t));
+    return best;
+}
+
+/// Smallest lung-to-tube gap (mm): from the lungs to the outside of the colon's fat band.
+double lungClearanceMm(const std::vector<LungTruth>& lungs, const std::vector<glm::dvec3>& line, double tubeMm,
+                       double topMm) {
+    double clearance = std::numeric_limits<double>::max();
+    for (const LungTruth& lung : lungs)
+        for (const glm::dvec3& p : lungBoundarySamples(lung, topMm))
+            clearance = std::min(clearance, polylineDistance(line, p) - tubeMm);
+    return clearance;
+}
+
+/// Does a polyp (on the wall at its arc, `radius` either side) reach into the arc range [a, b]?
+bool polypOverlaps(const PolypTruth& polyp, double a, double b) {
+    return std::abs(polyp.arcLengthMm - std::clamp(polyp.arcLengthMm, a, b)) < polyp.radiusMm;
+}
+
+/// What surrounds the colon, applied voxel by voxel after the tube: collapsed stretches and
+/// fluid pools change what fills the lumen, lungs and the body outline what lies around it.
+struct Anatomy {
+    double lumenRadiusMm = 0.0, edgeWidthMm = 1.0;
+    std::vector<Collapse> collapses;
+    std::vector<FluidPoolTruth> pools;
+    std::vector<LungTruth> lungs;
+    bool hasBody = false;
+    BodyTruth body;
+
+    /// Radius of the air lumen at arc s: the full radius, tapering smoothly (smoothstep) to
+    /// -edgeWidth in a collapse, so that not even the partial-volume ramp leaves air there.
+    double airRadiusAt(double s) const {
+        double closing = 0.0;  // 0: open, 1: closed
+        for (const Collapse& c : collapses) {
+            const double gap = std::max({c.closedStartMm - s, s - c.closedEndMm, 0.0}) / kCollapseTaperMm;
+            if (gap < 1.0) closing = std::max(closing, 1.0 - gap * gap * (3.0 - 2.0 * gap));
+        }
+        return lumenRadiusMm - closing * (lumenRadiusMm + edgeWidthMm);
+    }
+
+    /// How much of a lumen voxel at arc s and height y is fluid (0..1): below the pool's level,
+    /// with the partial-volume ramp across the level and at the pool's ends.
+    double fluidFraction(double s, double y) const {
+        double fraction = 0.0;
+        for (const FluidPoolTruth& pool : pools) {
+            const double e = edgeWidthMm;
+            fraction = std::max(fraction, std::clamp(0.5 + (y - pool.levelYMm) / e, 0.0, 1.0) *
+                                              std::clamp(0.5 + (s - pool.startArcMm) / e, 0.0, 1.0) *
+                                              std::clamp(0.5 + (pool.endArcMm - s) / e, 0.0, 1.0));
+        }
+        return fraction;
+    }
+
+    /// Lungs replace the tissue around them; outside the body is air.
+    double surround(const glm::dvec3& p, double hu, double lungHu, double airHu) const {
+        for (const LungTruth& lung : lungs) {
+            hu += std::clamp(0.5 - lungDistance(lung, p) / edgeWidthMm, 0.0, 1.0) * (lungHu - hu);
+        }
+        if (hasBody) hu += std::clamp(0.5 + bodyDistance(body, p.x, p.y) / edgeWidthMm, 0.0, 1.0) * (airHu - hu);
+        return hu;
+    }
+};
+
+/// The arc range over which a collapse leaves no air on the centreline: where the air radius
+/// is below -edgeWidth / 2 (the partial-volume ramp's reach), found on the smoothstep taper.
+std::array<double, 2> airlessArcRange(const Anatomy& anatomy, const Collapse& c) {
+    double inside = 0.0, outside = kCollapseTaperMm;  // distance beyond the closed part
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (inside + outside);
+        (anatomy.airRadiusAt(c.closedEndMm + mid) <= -0.5 * anatomy.edgeWidthMm ? inside : outside) = mid;
+    }
+    return {c.closedStartMm - inside, c.closedEndMm + inside};
+}
+
+/// Fails for collapse and pool parameters that cannot make sense, before any geometry.
+void validateAnatomySpec(const ColonPhantomSpec& spec) {
+    for (const CollapseSpec& c : spec.collapses) {
+        if (!(c.arcFraction > 0.0 && c.arcFraction < 1.0))
+            fail("collapse position " + std::to_string(c.arcFraction) + " is outside 0..1 (exclusive)");
+        if (!(c.lengthMm > 0.0 && c.lengthMm < 1000.0))
+            fail("collapse length " + std::to_string(c.lengthMm) + " mm must be positive (and under 1 m)");
+    }
+    for (const FluidPoolSpec& f : spec.fluidPools) {
+        if (!(f.arcFraction >= 0.0 && f.arcFraction <= 1.0))
+            fail("fluid pool position " + std::to_string(f.arcFraction) + " is outside 0..1");
+        if (!(f.lengthMm > 0.0 && f.lengthMm < 1000.0))
+            fail("fluid pool length " + std::to_string(f.lengthMm) + " mm must be positive (and under 1 m)");
+        if (!(f.depthMm > 0.0 && f.depthMm < 2.0 * spec.lumenRadiusMm))
+            fail("fluid pool depth " + std::to_string(f.depthMm) + " mm must be positive and less than the lumen's " +
+                 std::to_string(2.0 * spec.lumenRadiusMm) + " mm diameter");
+    }
+}
+
+/// Collapses along the centreline; each must leave open lumen on both sides, so that it splits
+/// the air in two, and must not overlap another.
+std::vector<Collapse> placeCollapses(const ColonPhantomSpec& spec, const Centreline& line) {
+    std::vector<Collapse> collapses;
+    for (const CollapseSpec& c : spec.collapses) {
+        const double centre = c.arcFraction * line.length();
+        const Collapse collapse{centre - 0.5 * c.lengthMm, centre + 0.5 * c.lengthMm};
+        if (collapse.taperStartMm() < 5.0 || collapse.taperEndMm() > line.length() - 5.0) {
+            fail("a collapse of " + mm(c.lengthMm) + " at position " + std::to_string(c.arcFraction) + " (with its " +
+                 mm(kCollapseTaperMm) + " tapers) must leave 5 mm of open lumen at both ends of the " +
+                 mm(line.length()) + " colon");
+        }
+        for (const Collapse& other : collapses) {
+            if (collapse.taperStartMm() < other.taperEndMm() && other.taperStartMm() < collapse.taperEndMm())
+                fail("collapses at " + mm(centre) + " and " + mm(0.5 * (other.closedStartMm + other.closedEndMm)) +
+                     " overlap (tapers included)");
+        }
+        collapses.push_back(collapse);
+    }
+    return collapses;
+}
+
+/// Fluid pools with their levels: `depth` above the lowest point (largest y) of the lumen
+/// surface in the pool's arc range. A pool may not reach into a collapse, where there is no
+/// lumen to hold it.
+std::vector<FluidPoolTruth> placeFluidPools(const ColonPhantomSpec& spec, const Centreline& line,
+                                            const std::vector<Collapse>& collapses) {
+    std::vector<FluidPoolTruth> pools;
+    for (const FluidPoolSpec& f : spec.fluidPools) {
+        const double centre = f.arcFraction * line.length();
+        FluidPoolTruth pool;
+        pool.startArcMm = std::max(0.0, centre - 0.5 * f.lengthMm);
+        pool.endArcMm = std::min(line.length(), centre + 0.5 * f.lengthMm);
+        double lowestMm = -std::numeric_limits<double>::max();
+        for (std::size_t i = 0; i < line.points.size(); ++i) {
+            if (line.arcMm[i] >= pool.startArcMm && line.arcMm[i] <= pool.endArcMm)
+                lowestMm = std::max(lowestMm, line.points[i].y + spec.lumenRadiusMm);
+        }
+        pool.levelYMm = lowestMm - f.depthMm;
+        for (const Collapse& c : collapses) {
+            if (pool.startArcMm < c.taperEndMm() && c.taperStartMm() < pool.endArcMm)
+                fail("the fluid pool over " + mm(pool.startArcMm) + " .. " + mm(pool.endArcMm) +
+                     " reaches into the collapse over " + mm(c.taperStartMm()) + " .. " + mm(c.taperEndMm()));
+        }
+        pools.push_back(pool);
+    }
+    return pools;
+}
+
+/// The body outline; the colon with its fat band must lie inside it, clear of its ramp.
+BodyTruth placeBody(const glm::dvec3& extent, const Centreline& line, double tubeMm, double edgeWidthMm) {
+    const BodyTruth body{glm::dvec2(0.5 * extent.x, 0.5 * extent.y), glm::dvec2(0.48 * extent.x, 0.46 * extent.y)};
+    for (const glm::dvec3& p : line.points) {
+        for (int a = 0; a < 32; ++a) {
+            const double angle = 2.0 * kPi * a / 32.0;
+            if (bodyDistance(body, p.x + tubeMm * std::cos(angle), p.y + tubeMm * std::sin(angle)) > -edgeWidthMm)
+                fail("the colon and its fat band (" + mm(tubeMm) + " around the centreline) do not fit inside the body outline");
+        }
+    }
+    return body;
+}
+
+/// Lung bases; they must stay kMinLungClearanceMm clear of the colon's fat band and, with a
+/// body, inside it, so neither the colon's air nor the air outside ever touches them.
+std::vector<LungTruth> placeLungs(const glm::dvec3& extent, const Centreline& line, double tubeMm,
+                                  const BodyTruth* body, double edgeWidthMm, double& clearanceMm) {
+    constexpr double kMinLungClearanceMm = 3.0;
+    std::vector<LungTruth> lungs = lungBases(extent);
+    clearanceMm = lungClearanceMm(lungs, line.points, tubeMm, extent.z);
+    if (clearanceMm < kMinLungClearanceMm) {
+        fail("the lung bases come within " + mm(clearanceMm) + " of the colon's fat band; they need " +
+             mm(kMinLungClearanceMm) + " of clearance (try another shape seed, or no lungs)");
+    }
+    for (const LungTruth& lung : lungs)
+        for (const glm::dvec3& p : lungBoundarySamples(lung, extent.z)) {
+            const bool inGrid = p.x >= 2.0 * edgeWidthMm && p.x <= extent.x - 2.0 * edgeWidthMm &&
+                                p.y >= 2.0 * edgeWidthMm && p.y <= extent.y - 2.0 * edgeWidthMm;
+            if (!inGrid || (body && bodyDistance(*body, p.x, p.y) > -2.0 * edgeWidthMm))
+                fail("the " + lung.side + " lung base does not fit inside the body");
+        }
+    return lungs;
+}
+
+/// Everything around the colon that the spec turns on, with its ground truth in `phantom`.
+Anatomy placeAnatomy(const ColonPhantomSpec& spec, const Centreline& line, const glm::dvec3& extent,
+                     ColonPhantom& phantom) {
+    Anatomy anatomy;
+    anatomy.lumenRadiusMm = spec.lumenRadiusMm;
+    anatomy.edgeWidthMm = spec.edgeWidthMm;
+    const double tubeMm = spec.lumenRadiusMm + spec.wallThicknessMm + spec.fatThicknessMm;
+    anatomy.collapses = placeCollapses(spec, line);
+    for (const Collapse& c : anatomy.collapses) phantom.collapsedArcMm.push_back(airlessArcRange(anatomy, c));
+    anatomy.pools = placeFluidPools(spec, line, anatomy.collapses);
+    phantom.fluidPools = anatomy.pools;
+    anatomy.hasBody = spec.hasBody;
+    if (spec.hasBody) anatomy.body = placeBody(extent, line, tubeMm, spec.edgeWidthMm);
+    phantom.body = anatomy.body;
+    if (spec.hasLung) {
+        anatomy.lungs = placeLungs(extent, line, tubeMm, spec.hasBody ? &anatomy.body : nullptr, spec.edgeWidthMm,
+                                   phantom.lungClearanceMm);
+    }
+    phantom.lungs = anatomy.lungs;
+    return anatomy;
 }
 
 }  // namespace
@@ -176,6 +479,21 @@ std::vector<PolypSpec> ColonPhantomSpec::defaultPolyps() {
             {PolypKind::Sessile, 3.0, 0.50, 270.0, 0.0},
             {PolypKind::Sessile, 12.0, 0.68, 90.0, 0.0},
             {PolypKind::Pedunculated, 6.0, 0.85, 210.0, 3.0}};
+}
+
+ColonPhantomSpec ColonPhantomSpec::withAnatomy(ColonPhantomSpec base) {
+    base.hasBody = true;
+    base.hasLung = true;
+    // Arc lengths for the default colon at 128^3 x 1.2 mm (291 mm; 256^3 x 0.6 mm is within 1%):
+    // the collapse closes over 116..128 mm (tapers 111..133, no air on the centreline
+    // 115.7..128.9), between the polyps at 0.33 (96 mm, 8 mm across) and 0.50 (146 mm, 3 mm).
+    // The pool covers 49..89 mm, round the hepatic flexure, where the colon sags lowest
+    // (largest y) so the fluid gathers as it would, half-way between the polyps at 0.15
+    // (44 mm, 6 mm) and 0.33; the gap stays wider than 40 mm for shape seeds that shorten the
+    // colon by up to 10%.
+    base.collapses = {{0.42, 12.0}};
+    base.fluidPools = {{0.238, 40.0, 6.0}};
+    return base;
 }
 
 ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
@@ -191,14 +509,11 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
         fail("radii, thicknesses, spacing of folds and edge width must be positive, noise non-negative");
     }
 
-    // Centreline: ascending colon, hepatic flexure, transverse colon, splenic flexure,
-    // descending colon, as fractions of the grid's extent.
-    const std::vector<glm::dvec3> controls = {{0.28, 0.50, 0.13}, {0.24, 0.42, 0.34}, {0.30, 0.58, 0.58},
-                                              {0.36, 0.48, 0.80}, {0.55, 0.40, 0.84}, {0.70, 0.56, 0.72},
-                                              {0.76, 0.46, 0.48}, {0.72, 0.52, 0.26}, {0.74, 0.48, 0.13}};
-    std::vector<glm::dvec3> scaled;
-    for (const glm::dvec3& c : controls) scaled.push_back(c * extent);
-    const Centreline line(smoothPolyline(scaled));
+    validateAnatomySpec(spec);
+
+    // Centreline from the caecum (ascending colon, patient's right) to the rectal end
+    // (descending colon, left).
+    const Centreline line(smoothPolyline(controlPointsMm(spec.shapeSeed, extent, outerMm + spec.fatThicknessMm)));
     for (const glm::dvec3& p : line.points) {
         for (int a = 0; a < 3; ++a) {
             if (p[a] < outerMm || p[a] > extent[a] - outerMm) {
@@ -250,13 +565,30 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
         phantom.polyps.push_back(truth);
     }
 
-    // Folds: evenly spaced, turning by a third of a turn each, kept clear of the polyps.
+    Anatomy anatomy = placeAnatomy(spec, line, extent, phantom);
+    for (const PolypTruth& polyp : phantom.polyps) {
+        for (const Collapse& c : anatomy.collapses) {
+            if (polypOverlaps(polyp, c.taperStartMm(), c.taperEndMm()))
+                fail("a polyp at " + mm(polyp.arcLengthMm) + " along the colon lies in the collapse over " +
+                     mm(c.taperStartMm()) + " .. " + mm(c.taperEndMm()) + " (there is no lumen there to see it in)");
+        }
+        for (const FluidPoolTruth& pool : anatomy.pools) {
+            if (polypOverlaps(polyp, pool.startArcMm, pool.endArcMm))
+                fail("a polyp at " + mm(polyp.arcLengthMm) + " along the colon lies in the fluid pool over " +
+                     mm(pool.startArcMm) + " .. " + mm(pool.endArcMm) + " (its truth assumes it stands in air)");
+        }
+    }
+
+    // Folds: evenly spaced, turning by a third of a turn each, kept clear of the polyps and of
+    // collapses (a fold in a closed lumen would only blur where it closes).
     std::vector<Fold> folds;
     int foldIndex = 0;
     for (double s = 0.5 * spec.foldSpacingMm; s < line.length() - 0.5 * spec.foldSpacingMm;
          s += spec.foldSpacingMm, ++foldIndex) {
         const bool isClear = std::none_of(polyps.begin(), polyps.end(), [&](const PolypSolid& p) {
             return std::abs(p.truth.arcLengthMm - s) < p.truth.radiusMm + spec.foldHalfWidthMm + 3.0;
+        }) && std::none_of(anatomy.collapses.begin(), anatomy.collapses.end(), [&](const Collapse& c) {
+            return s > c.taperStartMm() - spec.foldHalfWidthMm - 3.0 && s < c.taperEndMm() + spec.foldHalfWidthMm + 3.0;
         });
         if (isClear) {
             folds.push_back({s, foldIndex * 2.0 * kPi / 3.0});
@@ -272,6 +604,7 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
     const int slabs = (volume.dims[2] + kSlabLayers - 1) / kSlabLayers;
     const std::size_t layerVoxels = static_cast<std::size_t>(volume.dims[0]) * volume.dims[1];
     const glm::dvec3 spacing = volume.spacingMm;
+    const bool hasSurroundings = anatomy.hasBody || !anatomy.lungs.empty();
     parallelFor(slabs, [&](int slab) {
         const int k0 = slab * kSlabLayers, k1 = std::min(k0 + kSlabLayers, volume.dims[2]);
         std::vector<float> bestDistance(layerVoxels * static_cast<std::size_t>(k1 - k0),
@@ -310,17 +643,24 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
                                                            (j + static_cast<std::size_t>(volume.dims[1]) * (k - k0));
                     const std::size_t n = volume.linearIndex(iv, j, k);
                     if (!noise.empty()) noise[n] = static_cast<float>(gaussianAt(spec.seed, n));
-                    if (bestDistance[local] > bandMm) continue;  // plain soft tissue
                     const glm::dvec3 p = glm::dvec3(iv, j, k) * spacing;
+                    if (bestDistance[local] > bandMm) {  // plain soft tissue, unless lung or outside
+                        if (hasSurroundings)
+                            volume.hu[n] = static_cast<int16_t>(
+                                std::lround(anatomy.surround(p, spec.tissueHu, spec.lungHu, spec.lumenHu)));
+                        continue;
+                    }
                     glm::dvec3 point, tangent, normal;
                     line.frameAt(bestArc[local], point, tangent, normal);
                     const glm::dvec3 radial = p - point;
                     const double theta =
                         std::atan2(glm::dot(radial, glm::cross(tangent, normal)), glm::dot(radial, normal));
-                    const double lumenDistance =
-                        bestDistance[local] - (spec.lumenRadiusMm - foldIntrusion(spec, folds, bestArc[local], theta));
+                    const double fold = foldIntrusion(spec, folds, bestArc[local], theta);
+                    // The wall and fat keep their place in a collapse; only the air lumen closes.
+                    const double lumenDistance = bestDistance[local] - (spec.lumenRadiusMm - fold);
+                    const double openDistance = bestDistance[local] - (anatomy.airRadiusAt(bestArc[local]) - fold);
                     const double polyp = polypDistance(polyps, p);
-                    const double airDistance = std::max(lumenDistance, -polyp);
+                    const double airDistance = std::max(openDistance, -polyp);
                     // Tissue value: wall, then the fat band, then soft tissue; polyps are tissue.
                     const double e = spec.edgeWidthMm;
                     const double fatWeight =
@@ -329,7 +669,12 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
                     double tissue = spec.tissueHu + fatWeight * (spec.fatHu - spec.tissueHu);
                     tissue += std::clamp(0.5 - polyp / e, 0.0, 1.0) * (spec.tissueHu - tissue);
                     const double airWeight = std::clamp(0.5 - airDistance / e, 0.0, 1.0);
-                    volume.hu[n] = static_cast<int16_t>(std::lround(tissue + airWeight * (spec.lumenHu - tissue)));
+                    // Tagged fluid takes the place of air in the lumen's lowest part.
+                    const double lumen =
+                        spec.lumenHu + anatomy.fluidFraction(bestArc[local], p.y) * (spec.fluidHu - spec.lumenHu);
+                    double hu = tissue + airWeight * (lumen - tissue);
+                    if (hasSurroundings) hu = anatomy.surround(p, hu, spec.lungHu, spec.lumenHu);
+                    volume.hu[n] = static_cast<int16_t>(std::lround(hu));
                 }
     });
 
@@ -395,7 +740,107 @@ std::string colonTruthJson(const ColonPhantomSpec& spec, const ColonPhantom& pha
                           {"stalk_length_mm", p.stalkLengthMm}});
     }
     truth["polyps"] = polyps;
+    // The phantom's descending-colon end stands for the rectal end.
+    truth["centreline_start"] = "caecum";
+    truth["centreline_end"] = "rectum";
+    truth["centreline_order"] = "caecum_to_rectum";
+    truth["shape_seed"] = spec.shapeSeed;
+    if (spec.hasBody) {
+        truth["body"] = {{"shape", "elliptic cylinder along z, air outside"},
+                         {"centre_mm", {phantom.body.centreMm.x, phantom.body.centreMm.y}},
+                         {"semi_axes_mm", {phantom.body.semiAxesMm.x, phantom.body.semiAxesMm.y}}};
+    }
+    if (spec.hasLung) {
+        nlohmann::json lungs = nlohmann::json::array();
+        for (const LungTruth& lung : phantom.lungs) {
+            lungs.push_back({{"side", lung.side},
+                             {"shape", "ellipsoid cut by the grid's top face"},
+                             {"centre_mm", vec(lung.centreMm)},
+                             {"semi_axes_mm", vec(lung.semiAxesMm)},
+                             {"hu", spec.lungHu}});
+        }
+        truth["lungs"] = lungs;
+        truth["lung_hu"] = spec.lungHu;
+        truth["lung_clearance_mm"] = phantom.lungClearanceMm;
+    }
+    if (!phantom.collapsedArcMm.empty()) truth["collapsed_arc_mm"] = phantom.collapsedArcMm;
+    if (!phantom.fluidPools.empty()) {
+        nlohmann::json pools = nlohmann::json::array();
+        for (const FluidPoolTruth& pool : phantom.fluidPools) {
+            pools.push_back({{"arc_mm", {pool.startArcMm, pool.endArcMm}},
+                             {"level_y_mm", pool.levelYMm},
+                             {"hu", spec.fluidHu}});
+        }
+        truth["fluid_pools"] = pools;
+        truth["fluid_hu"] = spec.fluidHu;
+    }
     return truth.dump(1) + "\n";
+}
+
+namespace {
+
+/// Splits "a:b:c" at colons into at most `maxFields + 1` parts (one too many says "too many").
+std::vector<std::string> splitFields(const std::string& text, std::size_t maxFields) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    while (parts.size() <= maxFields) {
+        const std::size_t end = text.find(':', start);
+        parts.push_back(text.substr(start, end == std::string::npos ? std::string::npos : end - start));
+        if (end == std::string::npos) break;
+        start = end + 1;
+    }
+    return parts;
+}
+
+/// The whole of `field` as a finite number, or nullopt.
+std::optional<double> parseNumber(const std::string& field) {
+    double value = 0.0;
+    const auto result = std::from_chars(field.data(), field.data() + field.size(), value);
+    if (field.empty() || result.ec != std::errc{} || result.ptr != field.data() + field.size() || !std::isfinite(value))
+        return std::nullopt;
+    return value;
+}
+
+/// Parses POSITION[:NUMBER...] for the collapse and pool options: `names` says what each
+/// field is, `values` holds the defaults and receives what the text gives.
+void parsePositionFields(const std::string& text, const std::string& what, const std::string& usage,
+                         const std::vector<std::string>& names, std::vector<double>& values) {
+    auto failSpec = [&](const std::string& problem) {
+        throw VolumeError(what + " '" + text + "': " + problem + " (expected " + usage + ")");
+    };
+    const std::vector<std::string> parts = splitFields(text, names.size());
+    if (parts.size() > names.size()) failSpec("has more than " + std::to_string(names.size()) + " fields");
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+        const std::optional<double> value = parseNumber(parts[i]);
+        if (!value) failSpec(names[i] + " '" + parts[i] + "' is not a number");
+        values[i] = *value;
+    }
+    if (values[0] < 0.0 || values[0] > 1.0) failSpec("position must be 0..1 along the centreline");
+    for (std::size_t i = 1; i < values.size(); ++i) {
+        if (!(values[i] > 0.0)) failSpec(names[i] + " must be positive");
+    }
+}
+
+}  // namespace
+
+CollapseSpec parseCollapseSpec(const std::string& text) {
+    CollapseSpec spec;
+    std::vector<double> values{spec.arcFraction, spec.lengthMm};
+    parsePositionFields(text, "collapse", "POSITION[:LENGTH_MM], e.g. 0.42:12", {"position", "length"}, values);
+    spec.arcFraction = values[0];
+    spec.lengthMm = values[1];
+    return spec;
+}
+
+FluidPoolSpec parseFluidPoolSpec(const std::string& text) {
+    FluidPoolSpec spec;
+    std::vector<double> values{spec.arcFraction, spec.lengthMm, spec.depthMm};
+    parsePositionFields(text, "fluid pool", "POSITION[:LENGTH_MM[:DEPTH_MM]], e.g. 0.238:40:6",
+                        {"position", "length", "depth"}, values);
+    spec.arcFraction = values[0];
+    spec.lengthMm = values[1];
+    spec.depthMm = values[2];
+    return spec;
 }
 
 PolypSpec parsePolypSpec(const std::string& text) {

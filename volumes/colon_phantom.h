@@ -9,6 +9,7 @@
 /// between. Positions are in volume millimetres (voxel (i, j, k) at (i, j, k) * spacingMm).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,6 +30,24 @@ struct PolypSpec {
     double stalkLengthMm = 4.0;  ///< pedunculated only: wall to the head's surface
 };
 
+/// A stretch where the colon has collapsed (not distended): the air lumen tapers to nothing
+/// and the wall tissue fills it, so the lumen's air splits into two parts, as in a CT
+/// colonography scan with a poorly distended segment.
+struct CollapseSpec {
+    double arcFraction = 0.5;  ///< centre of the collapse along the centreline, 0..1
+    double lengthMm = 12.0;    ///< fully closed over this length; a taper of kCollapseTaperMm on each side
+};
+
+/// Tagged residual fluid lying in the lowest part of the lumen (gravity along +y, supine).
+struct FluidPoolSpec {
+    double arcFraction = 0.5;  ///< centre of the pool along the centreline, 0..1
+    double lengthMm = 40.0;    ///< the pool covers arc lengths [s - L/2, s + L/2]
+    double depthMm = 6.0;      ///< from the lowest point of the lumen surface in that range up to the level
+};
+
+/// How far (mm) a collapse's lumen radius takes to close, on each side of the closed part.
+inline constexpr double kCollapseTaperMm = 5.0;
+
 struct ColonPhantomSpec {
     GridSpec grid{{256, 256, 256}, glm::dvec3(0.6)};
     double lumenRadiusMm = 11.0;  ///< distended colon, ~22 mm across
@@ -45,8 +64,24 @@ struct ColonPhantomSpec {
     std::uint64_t seed = 1;
     std::vector<PolypSpec> polyps = defaultPolyps();
 
+    // Anatomy around the colon, all off by default (the default phantom is unchanged). These are
+    // what colon segmentation and centreline extraction are tested against: air outside the
+    // body and in the lungs that must not be taken for colon, a collapsed segment that splits
+    // the lumen, and tagged fluid that hides part of it.
+    std::uint64_t shapeSeed = 0;  ///< 0: the standard curve; N > 0: control points moved by a hash of N
+    bool hasBody = false;         ///< elliptic body outline with air outside
+    bool hasLung = false;         ///< two lung bases at the top of the grid (needs nothing else)
+    int16_t lungHu = -860;        ///< lung parenchyma, not pure air
+    int16_t fluidHu = 600;        ///< tagged residual fluid
+    std::vector<CollapseSpec> collapses;
+    std::vector<FluidPoolSpec> fluidPools;
+
     /// Five polyps, 3 to 12 mm, both kinds, spread along the colon and around it.
     static std::vector<PolypSpec> defaultPolyps();
+
+    /// `base` with body, lungs, one 12 mm collapse at 0.42 and one 40 mm pool 6 mm deep at 0.238:
+    /// positions clear of the default polyps (see docs/volumes.md for their arc lengths).
+    static ColonPhantomSpec withAnatomy(ColonPhantomSpec base);
 };
 
 /// Ground truth of one polyp, in volume millimetres.
@@ -60,11 +95,34 @@ struct PolypTruth {
     double stalkLengthMm = 0.0;
 };
 
+/// The body outline: an elliptic cylinder along z (x, y in volume millimetres).
+struct BodyTruth {
+    glm::dvec2 centreMm{0.0};
+    glm::dvec2 semiAxesMm{0.0};
+};
+
+/// A lung base: an ellipsoid, cut by the grid's top face.
+struct LungTruth {
+    std::string side;  ///< "right" (small x) or "left" (large x), the patient's side
+    glm::dvec3 centreMm{0.0};
+    glm::dvec3 semiAxesMm{0.0};
+};
+
+struct FluidPoolTruth {
+    double startArcMm = 0.0, endArcMm = 0.0;  ///< the arc range the fluid lies in
+    double levelYMm = 0.0;                    ///< fluid where y > level (y grows posteriorly, downwards)
+};
+
 struct ColonPhantom {
     Volume volume;
-    std::vector<glm::dvec3> centrelineMm;  ///< polyline through the lumen centre, ~1 mm steps
+    std::vector<glm::dvec3> centrelineMm;  ///< polyline through the lumen centre, ~1 mm steps, caecum to rectum
     std::vector<PolypTruth> polyps;
     std::vector<double> foldArcLengthsMm;  ///< where the haustral folds are along the centreline
+    BodyTruth body;                        ///< set when spec.hasBody
+    std::vector<LungTruth> lungs;          ///< two when spec.hasLung
+    double lungClearanceMm = 0.0;          ///< hasLung: least gap between the lungs and the colon's fat
+    std::vector<std::array<double, 2>> collapsedArcMm;  ///< arc ranges with no air on the centreline
+    std::vector<FluidPoolTruth> fluidPools;
 };
 
 /// Builds the phantom. Throws VolumeError for a spec that cannot make sense (polyp sizes outside
@@ -78,5 +136,11 @@ std::string colonTruthJson(const ColonPhantomSpec& spec, const ColonPhantom& pha
 /// Parses "sessile:6:0.3:45" or "pedunculated:10:0.6:200[:stalkMm]" (kind:diameterMm:
 /// arcFraction:angleDeg) into a PolypSpec; throws VolumeError naming the part that is wrong.
 PolypSpec parsePolypSpec(const std::string& text);
+
+/// Parses "POSITION[:LENGTH_MM]" (e.g. "0.42:12") into a CollapseSpec; throws VolumeError.
+CollapseSpec parseCollapseSpec(const std::string& text);
+
+/// Parses "POSITION[:LENGTH_MM[:DEPTH_MM]]" (e.g. "0.238:40:6") into a FluidPoolSpec; throws VolumeError.
+FluidPoolSpec parseFluidPoolSpec(const std::string& text);
 
 }  // namespace volumes

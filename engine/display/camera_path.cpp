@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -37,30 +38,74 @@ glm::dvec3 vec3Of(const nlohmann::json& value) {
     return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
 }
 
-std::vector<glm::dvec3> fromJson(const std::string& path, std::istream& in) {
+/// The points of a JSON centreline and where its segments start.
+struct RawCentreline {
+    std::vector<glm::dvec3> points;
+    std::vector<std::size_t> segmentStarts{0};
+    bool isCaecumFirst = false;
+    std::optional<glm::dvec3> anterior;
+};
+
+RawCentreline fromJson(const std::string& path, std::istream& in) {
     const nlohmann::json document = parseJson(path, in);
     if (!document.is_object() || !document.contains("centreline_mm") || !document["centreline_mm"].is_array()) {
         throw std::runtime_error(path + ": no \"centreline_mm\" array (expected a phantom's ground truth)");
     }
-    std::vector<glm::dvec3> points;
+    RawCentreline raw;
     for (const auto& point : document["centreline_mm"]) {
         if (!isVec3(point)) {
-            throw std::runtime_error(path + ": centreline point " + std::to_string(points.size()) +
+            throw std::runtime_error(path + ": centreline point " + std::to_string(raw.points.size()) +
                                      " is not three numbers");
         }
-        points.push_back(vec3Of(point));
-        if (points.size() > kMaxPoints) throw std::runtime_error(path + ": more than 10 million points");
+        raw.points.push_back(vec3Of(point));
+        if (raw.points.size() > kMaxPoints) throw std::runtime_error(path + ": more than 10 million points");
     }
-    return points;
+    if (document.contains("segment_starts")) {
+        const auto& starts = document["segment_starts"];
+        if (!starts.is_array() || starts.empty() || starts.size() > raw.points.size()) {
+            throw std::runtime_error(path + ": \"segment_starts\" must be a list of at most one index per point");
+        }
+        raw.segmentStarts.clear();
+        for (const auto& start : starts) {
+            if (!start.is_number_unsigned() || start.get<std::size_t>() >= raw.points.size() ||
+                (!raw.segmentStarts.empty() && start.get<std::size_t>() <= raw.segmentStarts.back()) ||
+                (raw.segmentStarts.empty() && start.get<std::size_t>() != 0)) {
+                throw std::runtime_error(path + ": \"segment_starts\" must rise from 0 within the centreline's points");
+            }
+            raw.segmentStarts.push_back(start.get<std::size_t>());
+        }
+    }
+    if (document.contains("centreline_order")) {
+        const auto& order = document["centreline_order"];
+        if (order == "caecum_to_rectum") {
+            raw.isCaecumFirst = true;
+        } else if (order != "rectum_to_caecum") {
+            throw std::runtime_error(path + ": \"centreline_order\" must be \"rectum_to_caecum\" or \"caecum_to_rectum\"");
+        }
+    }
+    if (document.contains("anterior")) {
+        if (!isVec3(document["anterior"]) || !isFinite(vec3Of(document["anterior"])) ||
+            glm::length(vec3Of(document["anterior"])) < 1e-6) {
+            throw std::runtime_error(path + ": \"anterior\" must be three finite numbers, not all zero");
+        }
+        raw.anterior = glm::normalize(vec3Of(document["anterior"]));
+    }
+    return raw;
 }
 
-std::vector<glm::dvec3> fromText(const std::string& path, std::istream& in) {
-    std::vector<glm::dvec3> points;
+RawCentreline fromText(const std::string& path, std::istream& in) {
+    RawCentreline raw;
+    std::vector<glm::dvec3>& points = raw.points;
     std::string line;
     int lineNumber = 0;
     while (std::getline(in, line)) {
         ++lineNumber;
-        line = line.substr(0, line.find('#'));
+        const std::size_t comment = line.find('#');
+        if (comment != std::string::npos && line.compare(comment, 9, "# segment") == 0 && !points.empty() &&
+            points.size() != raw.segmentStarts.back()) {
+            raw.segmentStarts.push_back(points.size());
+        }
+        line = line.substr(0, comment);
         std::replace(line.begin(), line.end(), ',', ' ');
         std::istringstream fields(line);
         std::vector<std::string> tokens;
@@ -81,7 +126,7 @@ std::vector<glm::dvec3> fromText(const std::string& path, std::istream& in) {
         points.emplace_back(xyz[0], xyz[1], xyz[2]);
         if (points.size() > kMaxPoints) throw std::runtime_error(path + ": more than 10 million points");
     }
-    return points;
+    return raw;
 }
 
 /// Carries `up` from one forward direction to the next by the rotation that takes one to the
@@ -100,20 +145,81 @@ glm::dvec3 transportUp(const glm::dvec3& up, const glm::dvec3& fromForward, cons
     return glm::normalize(carried);
 }
 
+/// The segment that passes nearest to `pointMm` (a polyp is seen from its own segment).
+const std::vector<glm::dvec3>& nearestSegment(const Centreline& centreline, const glm::dvec3& pointMm) {
+    std::size_t best = 0;
+    double bestDistance = std::numeric_limits<double>::max();
+    for (std::size_t s = 0; s < centreline.segments.size(); ++s) {
+        for (const glm::dvec3& p : centreline.segments[s]) {
+            if (glm::length(p - pointMm) < bestDistance) {
+                bestDistance = glm::length(p - pointMm);
+                best = s;
+            }
+        }
+    }
+    return centreline.segments[best];
+}
+
 }  // namespace
 
-std::vector<glm::dvec3> readPolyline(const std::string& path) {
+Centreline readCentreline(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw std::runtime_error(path + ": cannot open path file");
     const bool isJson = path.size() >= 5 && path.substr(path.size() - 5) == ".json";
-    std::vector<glm::dvec3> raw = isJson ? fromJson(path, in) : fromText(path, in);
-    std::vector<glm::dvec3> points;
-    for (std::size_t i = 0; i < raw.size(); ++i) {
-        if (!isFinite(raw[i])) throw std::runtime_error(path + ": point " + std::to_string(i) + " is not finite");
-        if (points.empty() || glm::length(raw[i] - points.back()) > kMinSegmentMm) points.push_back(raw[i]);
+    const RawCentreline raw = isJson ? fromJson(path, in) : fromText(path, in);
+    Centreline centreline;
+    centreline.anterior = raw.anterior;
+    for (std::size_t s = 0; s < raw.segmentStarts.size(); ++s) {
+        const std::size_t end = s + 1 < raw.segmentStarts.size() ? raw.segmentStarts[s + 1] : raw.points.size();
+        std::vector<glm::dvec3> points;
+        for (std::size_t i = raw.segmentStarts[s]; i < end; ++i) {
+            if (!isFinite(raw.points[i])) throw std::runtime_error(path + ": point " + std::to_string(i) + " is not finite");
+            if (points.empty() || glm::length(raw.points[i] - points.back()) > kMinSegmentMm) points.push_back(raw.points[i]);
+        }
+        if (points.size() < 2) {
+            throw std::runtime_error(path + ": " +
+                                     (raw.segmentStarts.size() > 1 ? "segment " + std::to_string(s + 1) + " of a path"
+                                                                   : std::string("a path")) +
+                                     " needs at least two distinct points");
+        }
+        centreline.segments.push_back(std::move(points));
     }
-    if (points.size() < 2) throw std::runtime_error(path + ": a path needs at least two distinct points");
+    if (raw.isCaecumFirst) {
+        std::reverse(centreline.segments.begin(), centreline.segments.end());
+        for (auto& segment : centreline.segments) std::reverse(segment.begin(), segment.end());
+    }
+    return centreline;
+}
+
+std::vector<glm::dvec3> readPolyline(const std::string& path) {
+    std::vector<glm::dvec3> points;
+    for (const auto& segment : readCentreline(path).segments) points.insert(points.end(), segment.begin(), segment.end());
     return points;
+}
+
+std::vector<CameraPose> posesAlongSegments(const Centreline& centreline, const PathSettings& settings) {
+    std::vector<std::vector<glm::dvec3>> segments = centreline.segments;
+    if (settings.direction == Direction::Retrograde) std::reverse(segments.begin(), segments.end());
+    std::vector<CameraPose> poses;
+    for (const auto& segment : segments) {
+        double length = 0.0;
+        for (std::size_t i = 1; i < segment.size(); ++i) length += glm::length(segment[i] - segment[i - 1]);
+        if (length < settings.stepMm) continue;  // too short to take a step in
+        PathSettings part = settings;
+        part.maxFrames = settings.maxFrames - static_cast<int>(poses.size());
+        std::vector<CameraPose> more = posesAlong(segment, part);
+        if (!poses.empty()) {
+            // Carry up across the gap as along the path: rotate it from the last view to the next.
+            glm::dvec3 up = transportUp(poses.back().up, poses.back().forward, more.front().forward);
+            for (std::size_t i = 0; i < more.size(); ++i) {
+                if (i > 0) up = transportUp(up, more[i - 1].forward, more[i].forward);
+                more[i].up = up;
+            }
+        }
+        poses.insert(poses.end(), more.begin(), more.end());
+    }
+    if (poses.empty()) throw std::invalid_argument("path: no segment is as long as one step");
+    return poses;
 }
 
 std::vector<CameraPose> posesAlong(const std::vector<glm::dvec3>& polyline, const PathSettings& settings) {
@@ -235,17 +341,19 @@ CameraPose poseLookingAt(const glm::dvec3& positionMm, const glm::dvec3& lookAtM
 
 std::vector<CameraPose> posesFor(const PoseRequest& request) {
     if (!request.pathFile.empty()) {
-        const auto polyline = readPolyline(request.pathFile);
+        const Centreline centreline = readCentreline(request.pathFile);
+        PathSettings settings = request.path;
+        if (centreline.anterior) settings.initialUp = *centreline.anterior;
         if (request.polyp >= 0) {
             const auto centres = readPolypCentres(request.pathFile);
             if (request.polyp >= static_cast<int>(centres.size())) {
                 throw std::invalid_argument("polyp " + std::to_string(request.polyp) + ": " + request.pathFile +
                                             " lists " + std::to_string(centres.size()) + " polyps");
             }
-            return {poseViewing(polyline, centres[static_cast<std::size_t>(request.polyp)], request.polypElevationDeg,
-                                request.path)};
+            const glm::dvec3 polyp = centres[static_cast<std::size_t>(request.polyp)];
+            return {poseViewing(nearestSegment(centreline, polyp), polyp, request.polypElevationDeg, settings)};
         }
-        auto poses = posesAlong(polyline, request.path);
+        auto poses = posesAlongSegments(centreline, settings);
         if (request.maxFrames > 0 && static_cast<int>(poses.size()) > request.maxFrames) {
             poses.resize(static_cast<std::size_t>(request.maxFrames));
         }

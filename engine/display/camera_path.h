@@ -18,10 +18,27 @@ struct CameraPose {
     glm::dvec3 up{0.0, 1.0, 0.0};
 };
 
-/// Reads a polyline in volume millimetres: the "centreline_mm" array of a phantom's JSON
-/// ground truth (`cvc phantom`), or a text file with one "x y z" point per line ('#' starts a
-/// comment; commas may separate). Throws std::runtime_error naming the file and line for a
-/// missing file, a malformed line, non-finite numbers, or fewer than two distinct points.
+/// A centreline read from a file, in antegrade order (rectum -> caecum, the endoscope's
+/// direction), in one or more segments with gaps of tissue between them.
+struct Centreline {
+    std::vector<std::vector<glm::dvec3>> segments;
+    /// The patient's anterior in volume millimetres, where the file records it (`cvc colon`
+    /// takes it from the scan's orientation matrix): the first pose's up.
+    std::optional<glm::dvec3> anterior;
+};
+
+/// Reads a centreline in volume millimetres: the "centreline_mm" array of a JSON file (a
+/// phantom's ground truth from `cvc phantom`, or `cvc colon`'s colon.json, split into segments
+/// at its "segment_starts"), or a text file with one "x y z" point per line ('#' starts a
+/// comment, a line "# segment N" starts a new segment; commas may separate). A JSON file's
+/// "centreline_order" says which way it runs ("rectum_to_caecum", the default, or
+/// "caecum_to_rectum", as the phantom's does); the result always runs rectum -> caecum. A
+/// text file is taken to run rectum -> caecum. Throws std::runtime_error naming the file and
+/// line for a missing file, a malformed line, non-finite numbers, an unknown order, or a segment
+/// of fewer than two distinct points.
+Centreline readCentreline(const std::string& path);
+
+/// readCentreline's segments joined into one polyline (rectum -> caecum).
 std::vector<glm::dvec3> readPolyline(const std::string& path);
 
 enum class Direction { Antegrade, Retrograde };
@@ -33,6 +50,12 @@ struct PathSettings {
     glm::dvec3 initialUp{0.0, -1.0, 0.0};  // up of the first frame (made orthogonal), then carried along
     int maxFrames = 100000;         // a bound on the frames one path may produce
 };
+
+/// Poses along every segment of `centreline` in turn (rectum -> caecum, or caecum -> rectum
+/// for Retrograde), stepMm apart within a segment, up carried on across the gaps; a segment
+/// shorter than one step is skipped. Throws std::invalid_argument as posesAlong does, or when
+/// no segment is one step long.
+std::vector<CameraPose> posesAlongSegments(const Centreline& centreline, const PathSettings& settings);
 
 /// Poses every stepMm along `polyline` (start to end, or end to start for Retrograde), looking
 /// along the tangent averaged over +-smoothingMm of arc, with up carried by parallel transport

@@ -268,7 +268,14 @@ void checkSequenceOutput(const SequenceJob& job, const SequenceOutput& output) {
     if (fs::exists(folder) && !fs::is_directory(folder)) {
         throw std::runtime_error(output.folder + ": exists and is not a folder");
     }
-    if (!fs::exists(folder) || fs::is_empty(folder)) return;
+    const auto isCompanion = [&](const fs::directory_entry& entry) {
+        const std::string name = entry.path().filename().string();
+        return std::find(output.companions.begin(), output.companions.end(), name) != output.companions.end();
+    };
+    if (!fs::exists(folder) ||
+        std::all_of(fs::directory_iterator(folder), fs::directory_iterator(), isCompanion)) {
+        return;
+    }
     if (output.isResumed) {
         const fs::path manifestPath = folder / "render.json";
         if (!fs::exists(manifestPath)) {

@@ -53,6 +53,9 @@ struct SequenceOutput {
     std::string folder;
     bool isForced = false;   // replace what an earlier render left there
     bool isResumed = false;  // keep finished frames and render the rest
+    /// Entries of the folder that the same job wrote beside the sequence before it (the colon
+    /// analysis of `cvc render --path auto`): they do not make the folder occupied.
+    std::vector<std::string> companions{};
 };
 
 /// What the caller learns while the sequence runs. Either may be empty.

@@ -1,0 +1,151 @@
+/// @brief `cvc colon`: find the air-filled colon of a CT, cleanse tagged fluid, extract the
+/// centreline per segment and write what a fly-through needs (colon/colon_analysis.h).
+#include "app/colon_command.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "app/option_parsing.h"
+#include "colon/colon_report.h"
+#include "colon/overview_image.h"
+#include "engine/output/png_writer.h"
+#include "volumes/load_volume.h"
+#include "volumes/nrrd_io.h"
+
+namespace app {
+namespace {
+
+namespace fs = std::filesystem;
+
+void writeText(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) throw std::runtime_error(path + ": write failed");
+}
+
+ColonOutputs outputsIn(const std::string& folder) {
+    const fs::path dir(folder);
+    return {(dir / "colon.json").string(), (dir / "centreline.txt").string(), (dir / "lumen.nrrd").string(),
+            (dir / "overview.png").string(), (dir / "cleansed.nrrd").string(), false};
+}
+
+/// A finished analysis of the same volume in `outputs`' folder, if there is one.
+bool isReusable(const ColonOutputs& outputs, const std::string& volumePath) {
+    std::ifstream in(outputs.colonJson);
+    if (!in) return false;
+    try {
+        const nlohmann::json doc = nlohmann::json::parse(in);
+        return doc.value("volume", std::string{}) == fs::absolute(volumePath).string() && fs::exists(outputs.overviewPng);
+    } catch (const nlohmann::json::exception&) {
+        return false;
+    }
+}
+
+void printSummary(const colon::ColonAnalysis& analysis, const ColonOutputs& outputs) {
+    std::cout << std::fixed << std::setprecision(1);
+    std::cout << "colon: " << analysis.segments.size() << " segment(s), rectum -> caecum:\n";
+    for (std::size_t s = 0; s < analysis.segments.size(); ++s) {
+        const auto& segment = analysis.segments[s];
+        std::cout << "  segment " << s + 1 << ": " << segment.centreline.lengthMm << " mm, " << segment.volumeMl
+                  << " mL, lumen radius " << segment.centreline.meanRadiusMm << " mm mean\n";
+        if (s < analysis.gapsMm.size()) std::cout << "  gap: " << analysis.gapsMm[s] << " mm\n";
+    }
+    if (analysis.isCleansed) {
+        std::cout << "cleansed " << analysis.cleansing.pools << " pool(s) of tagged fluid, " << analysis.cleansing.fluidMl
+                  << " mL (" << outputs.cleansedNrrd << ")\n";
+    } else {
+        std::cout << "no tagged fluid cleansed\n";
+    }
+    std::cout << "analysed in " << analysis.seconds << " s\nwrote " << fs::path(outputs.colonJson).parent_path().string()
+              << '\n';
+}
+
+}  // namespace
+
+ColonOutputs runColonAnalysis(const ColonRequest& request) {
+    ColonOutputs outputs = outputsIn(request.outFolder);
+    if (request.resume && isReusable(outputs, request.volumePath)) {
+        outputs.wasReused = true;
+        if (!fs::exists(outputs.cleansedNrrd)) outputs.cleansedNrrd.clear();
+        std::cerr << "colon: reusing the analysis in " << request.outFolder << '\n';
+        return outputs;
+    }
+    fs::create_directories(request.outFolder);
+    for (const std::string& path : {outputs.colonJson, outputs.centrelineText, outputs.lumenNrrd, outputs.overviewPng}) {
+        requireWritableOutput(path, request.force || request.resume);
+    }
+    if (!request.jsonPath.empty()) requireWritableOutput(request.jsonPath, request.force);
+    if (fs::exists(outputs.cleansedNrrd) && !(request.force || request.resume)) {
+        throw std::invalid_argument(outputs.cleansedNrrd + " exists (use --force to replace it)");
+    }
+
+    volumes::LoadOptions load;
+    if (!request.rawSpec.empty()) load.raw = volumes::parseRawSpec(request.rawSpec);
+    std::cerr << "colon: loading " << request.volumePath << '\n';
+    volumes::Volume volume = volumes::loadVolume(request.volumePath, load);
+    const volumes::Volume original = volume;  // the overview shows the scan as it was
+    const auto progress = [](const std::string& step, int done, int total) {
+        std::cerr << "colon: [" << done << '/' << total << "] " << step << '\n';
+    };
+    const colon::ColonAnalysis analysis = colon::analyseColon(volume, request.settings, progress);
+
+    const bool overwrite = request.force || request.resume;
+    volumes::writeNrrd(analysis.labels, outputs.lumenNrrd, overwrite);
+    if (analysis.isCleansed) {
+        volumes::writeNrrd(volume, outputs.cleansedNrrd, overwrite);
+    } else {
+        if (overwrite && fs::exists(outputs.cleansedNrrd)) fs::remove(outputs.cleansedNrrd);  // stale from an earlier run
+        outputs.cleansedNrrd.clear();
+    }
+    writeText(outputs.centrelineText, colon::centrelineText(analysis));
+    const std::string json = colon::colonJson(analysis, volume, fs::absolute(request.volumePath).string());
+    const colon::RgbaImage overview = colon::overviewImage(original, analysis);
+    engine::writePng(outputs.overviewPng, overview.width, overview.height, overview.rgba, true);
+    writeText(outputs.colonJson, json);  // last: its presence marks a finished analysis
+    if (!request.jsonPath.empty()) writeText(request.jsonPath, json);
+    printSummary(analysis, outputs);
+    return outputs;
+}
+
+void addColonCommand(CLI::App& program) {
+    auto request = std::make_shared<ColonRequest>();
+    auto cleanse = std::make_shared<std::string>("auto");
+    CLI::App* command = program.add_subcommand(
+        "colon", "Find the air-filled colon of a CT, cleanse tagged fluid, extract its centreline (rectum -> caecum)");
+    command
+        ->add_option("volume,--volume", request->volumePath,
+                     "Volume: DICOM folder, .nrrd/.nhdr, .nii/.nii.gz, .mha/.mhd, .vdb, or raw with --raw")
+        ->required();
+    command->add_option("--raw", request->rawSpec, "Describe a headerless raw file, e.g. 512x512x451:int16:0.7x0.7x1.25");
+    command->add_option("-o,--out", request->outFolder, "Output folder")->required();
+    command->add_flag("--force", request->force, "Replace existing output files");
+    command->add_option("--json", request->jsonPath, "Also write the summary (colon.json's content) to this file");
+    command->add_option("--air-threshold", request->settings.segmentation.airThresholdHu, "Air is below this HU")
+        ->check(CLI::Range(-1024.0, 0.0))
+        ->capture_default_str();
+    command->add_option("--cleanse", *cleanse, "auto: cleanse tagged fluid where found; off: never")
+        ->check(CLI::IsMember({"auto", "off"}))
+        ->capture_default_str();
+    command->add_option("--smoothing", request->settings.centreline.smoothingMm,
+                        "Centreline smoothing, Gaussian sigma along the path in mm")
+        ->check(CLI::Range(0.0, 50.0))
+        ->capture_default_str();
+    command->add_option("--min-length", request->settings.minPathLengthMm,
+                        "Lumen segments with a shorter centreline are reported but not flown through (mm)")
+        ->check(CLI::Range(0.0, 10000.0))
+        ->capture_default_str();
+    command->callback([request, cleanse] {
+        request->settings.cleansing = *cleanse == "off" ? colon::Cleansing::Off : colon::Cleansing::Auto;
+        runColonAnalysis(*request);
+    });
+}
+
+}  // namespace app
