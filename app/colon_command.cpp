@@ -91,7 +91,6 @@ ColonOutputs runColonAnalysis(const ColonRequest& request) {
     if (!request.rawSpec.empty()) load.raw = volumes::parseRawSpec(request.rawSpec);
     std::cerr << "colon: loading " << request.volumePath << '\n';
     volumes::Volume volume = volumes::loadVolume(request.volumePath, load);
-    const volumes::Volume original = volume;  // the overview shows the scan as it was
     const auto progress = [](const std::string& step, int done, int total) {
         std::cerr << "colon: [" << done << '/' << total << "] " << step << '\n';
     };
@@ -107,7 +106,7 @@ ColonOutputs runColonAnalysis(const ColonRequest& request) {
     }
     writeText(outputs.centrelineText, colon::centrelineText(analysis));
     const std::string json = colon::colonJson(analysis, volume, fs::absolute(request.volumePath).string());
-    const colon::RgbaImage overview = colon::overviewImage(original, analysis);
+    const colon::RgbaImage overview = colon::overviewImage(volume, analysis);  // the scan as rendered: cleansed
     engine::writePng(outputs.overviewPng, overview.width, overview.height, overview.rgba, true);
     writeText(outputs.colonJson, json);  // last: its presence marks a finished analysis
     if (!request.jsonPath.empty()) writeText(request.jsonPath, json);

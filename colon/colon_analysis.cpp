@@ -11,6 +11,8 @@ namespace colon {
 namespace {
 
 constexpr int kSteps = 4;
+/// Segments beyond the 245th share the last code of the label volume (the report lists them all).
+constexpr int kMaxLabelCode = 255;
 
 /// The air segmentation's labels turned into the lumen's: colon air and cleansed voxels become
 /// unlabelled (to be labelled again by component), the rest keeps its class as a code.
@@ -120,16 +122,11 @@ ColonAnalysis analyseColon(volumes::Volume& volume, const ColonSettings& setting
     report("cleansing tagged fluid", 1);
     std::vector<int16_t> codeOfLabel = classCodes(air);
     if (settings.cleansing != Cleansing::Off) {
-        std::vector<uint8_t> lumen(air.labels.size(), 0);
-        for (std::size_t n = 0; n < lumen.size(); ++n) {
-            const int32_t label = air.labels[n];
-            lumen[n] = label > 0 && codeOfLabel[static_cast<std::size_t>(label)] == kLabelShortColon ? 1 : 0;
-        }
-        analysis.cleansing = cleanseTaggedFluid(volume, air, lumen, settings.cleansingSettings);
+        const std::vector<uint8_t> cleansed = cleanseTaggedFluid(volume, air, settings.cleansingSettings, analysis.cleansing);
         analysis.isCleansed = analysis.cleansing.pools > 0;
-        // Lumen voxels (colon air and cleansed fluid) are labelled again by component below.
-        for (std::size_t n = 0; n < lumen.size(); ++n) {
-            if (lumen[n] != 0) air.labels[n] = kUnlabelled;
+        // Cleansed voxels join the colon air, to be labelled by component with it below.
+        for (std::size_t n = 0; n < cleansed.size(); ++n) {
+            if (cleansed[n] != 0) air.labels[n] = kUnlabelled;
         }
     }
     // The air classes become codes; lumen voxels wait for their segment's label.
@@ -183,16 +180,21 @@ ColonAnalysis analyseColon(volumes::Volume& volume, const ColonSettings& setting
     }
     analysis.segments = std::move(segments);
 
-    // The label volume: class codes outside the lumen, segment codes inside.
+    // The label volume: class codes outside the lumen, segment codes inside. Codes go through
+    // a byte per voxel so that the 32-bit labels are freed before the 16-bit volume is made
+    // (peak memory stays under 4x the scan's).
+    std::vector<uint8_t> codes(air.labels.size());
+    for (std::size_t n = 0; n < air.labels.size(); ++n) {
+        const int32_t label = air.labels[n];
+        const int code = label > 0 ? codeOfPart[static_cast<std::size_t>(label)] : -2 - label;
+        codes[n] = static_cast<uint8_t>(std::min(code, kMaxLabelCode));
+    }
+    std::vector<int32_t>().swap(air.labels);
     analysis.labels.dims = volume.dims;
     analysis.labels.spacingMm = volume.spacingMm;
     analysis.labels.originLps = volume.originLps;
     analysis.labels.directionLps = volume.directionLps;
-    analysis.labels.hu.resize(volume.voxelCount());
-    for (std::size_t n = 0; n < air.labels.size(); ++n) {
-        const int32_t label = air.labels[n];
-        analysis.labels.hu[n] = label > 0 ? codeOfPart[static_cast<std::size_t>(label)] : static_cast<int16_t>(-2 - label);
-    }
+    analysis.labels.hu.assign(codes.begin(), codes.end());
     analysis.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     report("done", kSteps);
     return analysis;

@@ -30,8 +30,9 @@ DownAxis downAxisOf(const volumes::Volume& volume) {
     return down;
 }
 
-/// What the search has made of a voxel: a tagged voxel seen, a pool's fluid, a boundary voxel done.
-enum Mark : uint8_t { kNone = 0, kVisited = 1, kFluid = 2, kEdge = 3 };
+/// What the search has made of a voxel: a tagged voxel seen, a pool's fluid, a boundary voxel
+/// unmixed (still wall, or now lumen).
+enum Mark : uint8_t { kNone = 0, kVisited = 1, kFluid = 2, kEdge = 3, kEdgeLumen = 4 };
 
 }  // namespace
 
@@ -40,13 +41,25 @@ glm::dvec3 gravityDirection(const volumes::Volume& volume) {
     return glm::normalize(glm::transpose(volume.directionLps) * glm::dvec3(0.0, 1.0, 0.0));
 }
 
-CleansingReport cleanseTaggedFluid(volumes::Volume& volume, const AirSegmentation& air, std::vector<uint8_t>& lumen,
-                                   const CleansingSettings& settings) {
+std::vector<uint8_t> cleanseTaggedFluid(volumes::Volume& volume, const AirSegmentation& air,
+                                        const CleansingSettings& settings, CleansingReport& report) {
     if (!(settings.taggedHu > settings.tissueHu) || !(settings.levelGapMm > 0.0) || !(settings.maxPoolMl > 0.0)) {
         throw ColonError("cleansing: the tagged threshold must exceed the tissue value, the level gap be positive");
     }
     const Grid& grid = air.grid;
-    CleansingReport report;
+    report = CleansingReport{};
+    // The colon's air, by region label (labels run 1..n).
+    std::vector<uint8_t> isColonLabel(air.regions.size() + 1, 0);
+    for (const AirRegion& region : air.regions) {
+        isColonLabel[static_cast<std::size_t>(region.label)] = region.kind == AirClass::Colon ? 1 : 0;
+    }
+    std::vector<uint8_t> mark(grid.voxelCount(), kNone);
+    // Lumen: colon air, or a voxel this cleansing has made lumen.
+    const auto isLumen = [&](std::size_t n) {
+        const int32_t label = air.labels[n];
+        return (label > 0 && isColonLabel[static_cast<std::size_t>(label)] != 0) || mark[n] == kFluid ||
+               mark[n] == kEdgeLumen;
+    };
     const DownAxis down = downAxisOf(volume);
     const auto downAxis = static_cast<std::size_t>(down.axis);
     const int gapVoxels = std::max(1, static_cast<int>(std::ceil(settings.levelGapMm / grid.spacingMm[down.axis])));
@@ -60,13 +73,12 @@ CleansingReport cleanseTaggedFluid(volumes::Volume& volume, const AirSegmentatio
             v[downAxis] -= down.sign;
             if (!grid.contains(v[0], v[1], v[2])) return false;
             const std::size_t m = grid.index(v[0], v[1], v[2]);
-            if (lumen[m] != 0) return true;
+            if (isLumen(m)) return true;
             if (isTagged(m)) return false;  // still inside tagged material: not the top surface
         }
         return false;
     };
 
-    std::vector<uint8_t> mark(grid.voxelCount(), kNone);
     std::vector<std::size_t> pool;
     std::deque<std::size_t> frontier;
     // Seeds: tagged voxels just under colon air.
@@ -142,34 +154,31 @@ CleansingReport cleanseTaggedFluid(volumes::Volume& volume, const AirSegmentatio
                         const int a = v[0] + di, b = v[1] + dj, c = v[2] + dk;
                         if (!grid.contains(a, b, c)) continue;
                         const std::size_t m = grid.index(a, b, c);
-                        if (mark[m] != kNone || lumen[m] != 0) continue;
+                        if (mark[m] != kNone || isLumen(m)) continue;
                         const double h = volume.hu[m];
                         if (isBetweenAirAndFluid(m, std::array<int, 3>{a, b, c})) {
                             // Air-fluid level: lumen whatever the mix of the two.
                             volume.hu[m] = static_cast<int16_t>(std::lround(settings.airHu));
-                            lumen[m] = 2;
-                            mark[m] = kEdge;
+                            mark[m] = kEdgeLumen;
                             ++report.edgeVoxels;
                         } else if (h > settings.tissueHu) {
                             // Fluid-wall mix: the same fraction of air instead of fluid.
                             const double f = std::clamp((h - settings.tissueHu) / (fluidHu - settings.tissueHu), 0.0, 1.0);
                             volume.hu[m] = static_cast<int16_t>(
                                 std::lround(settings.tissueHu + f * (settings.airHu - settings.tissueHu)));
-                            if (f >= 0.5) lumen[m] = 2;
-                            mark[m] = kEdge;
+                            mark[m] = f >= 0.5 ? kEdgeLumen : kEdge;
                             ++report.edgeVoxels;
                         }
                     }
         }
     }
+    // The pools' fluid becomes air; the mask keeps what became lumen.
     for (std::size_t n = 0; n < mark.size(); ++n) {
-        if (mark[n] != kFluid) continue;
-        volume.hu[n] = static_cast<int16_t>(std::lround(settings.airHu));
-        lumen[n] = 2;
+        if (mark[n] == kFluid) volume.hu[n] = static_cast<int16_t>(std::lround(settings.airHu));
+        mark[n] = mark[n] == kFluid || mark[n] == kEdgeLumen ? 1 : 0;
     }
-    for (uint8_t& l : lumen) l = l != 0 ? 1 : 0;
     report.fluidMl = static_cast<double>(report.fluidVoxels) * voxelMl;
-    return report;
+    return mark;
 }
 
 }  // namespace colon

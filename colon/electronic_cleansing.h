@@ -45,11 +45,11 @@ struct CleansingReport {
     int rejectedRegions = 0;  ///< tagged regions touching the colon that were not pools (bone, too large)
 };
 
-/// Finds the pools under the colon air of `air` (regions of kind Colon), rewrites their HU in
-/// `volume` as described above, and marks every cleansed voxel in `lumen` (1: lumen). `lumen`
-/// must hold the colon air already (1) and 0 elsewhere.
-CleansingReport cleanseTaggedFluid(volumes::Volume& volume, const AirSegmentation& air, std::vector<uint8_t>& lumen,
-                                   const CleansingSettings& settings);
+/// Finds the pools under the colon air (the voxels of `air` whose region is of kind Colon),
+/// rewrites their HU in `volume` as described above, and returns a mask of the voxels that
+/// became lumen (1), the colon air itself not included.
+std::vector<uint8_t> cleanseTaggedFluid(volumes::Volume& volume, const AirSegmentation& air,
+                                        const CleansingSettings& settings, CleansingReport& report);
 
 /// The unit vector of gravity for a supine patient (toward the patient's back, LPS +P), in
 /// volume millimetres.

@@ -19,7 +19,7 @@ struct RgbaImage {
     std::vector<uint8_t> rgba;
 };
 
-/// The overview of `analysis` over `ct` (the volume it was computed from), panels at most
+/// The overview of `analysis` over `ct` (the volume it was computed from, cleansed or not), panels at most
 /// maxPanelPixels on a side.
 RgbaImage overviewImage(const volumes::Volume& ct, const ColonAnalysis& analysis, int maxPanelPixels = 400);
 

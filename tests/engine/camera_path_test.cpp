@@ -134,4 +134,52 @@ TEST(CameraPath, ReadsTextAndPhantomJsonAndRejectsBadFiles) {
     EXPECT_THROW(engine::posesAlong(helix(), tooMany), std::invalid_argument);
 }
 
+TEST(CameraPath, SegmentsAndTheirOrderFromTextAndJson) {
+    const auto dir = std::filesystem::path(CVC_TEST_TMP_DIR);
+    // Text: "# segment N" starts a segment; the file runs rectum -> caecum as written.
+    const auto text = dir / "segments.txt";
+    std::ofstream(text) << "# segment 1\n0 0 0\n0 0 10\n0 0 20\n# segment 2\n0 30 20\n0 30 40\n";
+    const auto fromText = engine::readCentreline(text.string());
+    ASSERT_EQ(fromText.segments.size(), 2u);
+    EXPECT_EQ(fromText.segments[0].front(), glm::dvec3(0, 0, 0));
+    EXPECT_EQ(fromText.segments[1].back(), glm::dvec3(0, 30, 40));
+    EXPECT_FALSE(fromText.anterior.has_value());
+
+    // JSON: a phantom's truth runs caecum -> rectum and is turned round; segment_starts split it.
+    const auto json = dir / "segments.json";
+    std::ofstream(json) << R"({"centreline_mm": [[0,0,0],[0,0,10],[0,0,20],[0,30,20],[0,30,40]],
+        "segment_starts": [0, 3], "centreline_order": "caecum_to_rectum", "anterior": [0, -2, 0]})";
+    const auto fromJson = engine::readCentreline(json.string());
+    ASSERT_EQ(fromJson.segments.size(), 2u);
+    EXPECT_EQ(fromJson.segments[0].front(), glm::dvec3(0, 30, 40)) << "the rectal end comes first";
+    EXPECT_EQ(fromJson.segments[1].back(), glm::dvec3(0, 0, 0));
+    ASSERT_TRUE(fromJson.anterior.has_value());
+    EXPECT_EQ(*fromJson.anterior, glm::dvec3(0, -1, 0));
+
+    // Poses step along each segment and jump the gap: none lies between the segments.
+    engine::PathSettings settings;
+    settings.stepMm = 5.0;
+    settings.smoothingMm = 2.0;
+    const auto poses = engine::posesAlongSegments(fromText, settings);
+    ASSERT_EQ(poses.size(), 5u + 5u);
+    for (const auto& pose : poses) {
+        const bool onFirst = pose.positionMm.y == 0.0 && pose.positionMm.z <= 20.0;
+        const bool onSecond = std::abs(pose.positionMm.y - 30.0) < 1e-9 && pose.positionMm.z >= 20.0;
+        EXPECT_TRUE(onFirst || onSecond) << pose.positionMm.y << " " << pose.positionMm.z;
+        EXPECT_NEAR(glm::dot(pose.forward, pose.up), 0.0, 1e-9);
+    }
+    EXPECT_EQ(poses[5].positionMm, glm::dvec3(0, 30, 20));
+    settings.direction = engine::Direction::Retrograde;
+    const auto backward = engine::posesAlongSegments(fromText, settings);
+    EXPECT_EQ(backward.front().positionMm, glm::dvec3(0, 30, 40));
+    EXPECT_EQ(backward.back().positionMm, glm::dvec3(0, 0, 0));
+
+    const auto badOrder = dir / "bad_order.json";
+    std::ofstream(badOrder) << R"({"centreline_mm": [[0,0,0],[0,0,10]], "centreline_order": "up"})";
+    EXPECT_THROW(engine::readCentreline(badOrder.string()), std::runtime_error);
+    const auto badStarts = dir / "bad_starts.json";
+    std::ofstream(badStarts) << R"({"centreline_mm": [[0,0,0],[0,0,10],[0,0,20]], "segment_starts": [0, 2]})";
+    EXPECT_THROW(engine::readCentreline(badStarts.string()), std::runtime_error) << "a segment of one point";
+}
+
 }  // namespace
