@@ -66,12 +66,17 @@ std::string colonJson(const ColonAnalysis& analysis, const volumes::Volume& volu
     nlohmann::json regions = nlohmann::json::array();
     for (const AirRegion& r : analysis.airRegions) {
         if (r.kind == AirClass::Small) continue;  // hundreds of specks: counted below
-        regions.push_back({{"class", airClassName(r.kind)},
-                           {"volume_ml", r.volumeMl},
-                           {"median_hu", r.medianHu},
-                           {"max_radius_mm", r.maxRadiusMm},
-                           {"tubularity", r.tubularity},
-                           {"centroid_mm", vec(r.centroidMm)}});
+        // Each measure is there where a rule needed it (the rules stop at the first that applies).
+        nlohmann::json region = {{"class", airClassName(r.kind)}, {"volume_ml", r.volumeMl}};
+        if (r.kind != AirClass::Outside) {
+            region["median_hu"] = r.medianHu;
+            region["centroid_mm"] = vec(r.centroidMm);
+        }
+        if (r.kind == AirClass::Round || r.kind == AirClass::Colon) {
+            region["max_radius_mm"] = r.maxRadiusMm;
+            region["tubularity"] = r.tubularity;
+        }
+        regions.push_back(region);
     }
     doc["air_regions"] = regions;
     doc["small_air_regions"] = std::count_if(analysis.airRegions.begin(), analysis.airRegions.end(),

@@ -30,9 +30,9 @@ DownAxis downAxisOf(const volumes::Volume& volume) {
     return down;
 }
 
-/// What the search has made of a voxel: a tagged voxel seen, a pool's fluid, a boundary voxel
-/// unmixed (still wall, or now lumen).
-enum Mark : uint8_t { kNone = 0, kVisited = 1, kFluid = 2, kEdge = 3, kEdgeLumen = 4 };
+/// What the search has made of a voxel, as bits: a tagged voxel seen, one of a pool's voxels,
+/// a voxel whose HU was rewritten, a voxel that became lumen.
+enum Mark : uint8_t { kSeen = 1, kPool = 2, kDone = 4, kLumen = 8 };
 
 }  // namespace
 
@@ -53,12 +53,12 @@ std::vector<uint8_t> cleanseTaggedFluid(volumes::Volume& volume, const AirSegmen
     for (const AirRegion& region : air.regions) {
         isColonLabel[static_cast<std::size_t>(region.label)] = region.kind == AirClass::Colon ? 1 : 0;
     }
-    std::vector<uint8_t> mark(grid.voxelCount(), kNone);
-    // Lumen: colon air, or a voxel this cleansing has made lumen.
-    const auto isLumen = [&](std::size_t n) {
+    std::vector<uint8_t> mark(grid.voxelCount(), 0);
+    // The colon's air as the segmentation found it: never what this cleansing makes lumen, so
+    // that the air-fluid level cannot creep down through a pool voxel by voxel.
+    const auto isColonAir = [&](std::size_t n) {
         const int32_t label = air.labels[n];
-        return (label > 0 && isColonLabel[static_cast<std::size_t>(label)] != 0) || mark[n] == kFluid ||
-               mark[n] == kEdgeLumen;
+        return label > 0 && isColonLabel[static_cast<std::size_t>(label)] != 0;
     };
     const DownAxis down = downAxisOf(volume);
     const auto downAxis = static_cast<std::size_t>(down.axis);
@@ -67,27 +67,38 @@ std::vector<uint8_t> cleanseTaggedFluid(volumes::Volume& volume, const AirSegmen
     const auto maxPoolVoxels = static_cast<std::size_t>(settings.maxPoolMl / voxelMl);
 
     const auto isTagged = [&](std::size_t n) { return volume.hu[n] > settings.taggedHu; };
-    // Colon air within the level gap above voxel (i, j, k) ("above": against gravity).
+    // Colon air within the level gap above voxel v ("above": against gravity), not through
+    // tagged material (a voxel deep in a pool has fluid above it, not air).
     const auto hasColonAirAbove = [&](std::array<int, 3> v) {
         for (int step = 1; step <= gapVoxels + 1; ++step) {
             v[downAxis] -= down.sign;
             if (!grid.contains(v[0], v[1], v[2])) return false;
             const std::size_t m = grid.index(v[0], v[1], v[2]);
-            if (isLumen(m)) return true;
-            if (isTagged(m)) return false;  // still inside tagged material: not the top surface
+            if (isColonAir(m)) return true;
+            if (isTagged(m)) return false;
+        }
+        return false;
+    };
+    // A pool voxel at v or within the level gap below it.
+    const auto hasPoolAtOrBelow = [&](std::array<int, 3> v) {
+        for (int step = 0; step <= gapVoxels + 1; ++step) {
+            if (step > 0) v[downAxis] += down.sign;
+            if (!grid.contains(v[0], v[1], v[2])) return false;
+            if (mark[grid.index(v[0], v[1], v[2])] & kPool) return true;
         }
         return false;
     };
 
     std::vector<std::size_t> pool;
     std::deque<std::size_t> frontier;
+    const std::array<std::array<int, 3>, 6> steps{{{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}}};
     // Seeds: tagged voxels just under colon air.
     for (std::size_t seed = 0; seed < mark.size(); ++seed) {
-        if (mark[seed] != kNone || !isTagged(seed) || !hasColonAirAbove(grid.voxelOf(seed))) continue;
+        if (mark[seed] != 0 || !isTagged(seed) || !hasColonAirAbove(grid.voxelOf(seed))) continue;
         // Grow the tagged region, measuring how much of its top surface meets colon air.
         pool.clear();
         frontier.assign(1, seed);
-        mark[seed] = kVisited;
+        mark[seed] = kSeen;
         std::size_t topVoxels = 0, topUnderAir = 0;
         bool isTooLarge = false;
         while (!frontier.empty()) {
@@ -95,26 +106,22 @@ std::vector<uint8_t> cleanseTaggedFluid(volumes::Volume& volume, const AirSegmen
             frontier.pop_front();
             pool.push_back(n);
             if (pool.size() > maxPoolVoxels) {
-                isTooLarge = true;  // keep marking it visited, but stop growing
+                isTooLarge = true;  // what it reached stays seen, so it is not grown again
                 break;
             }
             const auto v = grid.voxelOf(n);
             std::array<int, 3> upper = v;
             upper[downAxis] -= down.sign;
-            const bool isTop = !grid.contains(upper[0], upper[1], upper[2]) ||
-                               !isTagged(grid.index(upper[0], upper[1], upper[2]));
-            if (isTop) {
+            if (!grid.contains(upper[0], upper[1], upper[2]) || !isTagged(grid.index(upper[0], upper[1], upper[2]))) {
                 ++topVoxels;
                 if (hasColonAirAbove(v)) ++topUnderAir;
             }
-            const std::array<std::array<int, 3>, 6> steps{
-                {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}}};
             for (const auto& s : steps) {
                 const int a = v[0] + s[0], b = v[1] + s[1], c = v[2] + s[2];
                 if (!grid.contains(a, b, c)) continue;
                 const std::size_t m = grid.index(a, b, c);
-                if (mark[m] != kNone || !isTagged(m)) continue;
-                mark[m] = kVisited;
+                if (mark[m] != 0 || !isTagged(m)) continue;
+                mark[m] = kSeen;
                 frontier.push_back(m);
             }
         }
@@ -125,58 +132,46 @@ std::vector<uint8_t> cleanseTaggedFluid(volumes::Volume& volume, const AirSegmen
             ++report.rejectedRegions;
             continue;
         }
-        // The pool's own value for the mix: its median (the ramp at its edges is a minority).
+        // The pool's own value for the mix: its median (the ramps at its edges are a minority).
         std::vector<int16_t> values;
         values.reserve(pool.size());
         for (std::size_t n : pool) values.push_back(volume.hu[n]);
         std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
         const double fluidHu = std::max(static_cast<double>(values[values.size() / 2]), settings.taggedHu);
-        for (std::size_t n : pool) mark[n] = kFluid;
+        for (std::size_t n : pool) mark[n] |= kPool;
         ++report.pools;
         report.fluidVoxels += pool.size();
 
-        // Boundary layer: voxels within the level gap of the pool (a box around each voxel).
+        // Rewrite the pool and every voxel within the level gap of it (a box around each pool
+        // voxel), each once: the air-fluid level becomes air; a fluid-wall mix becomes the same
+        // mix of air and wall; the rest (wall beyond the fluid's reach) stays.
         const int r = gapVoxels;
-        const auto isBetweenAirAndFluid = [&](std::size_t m, std::array<int, 3> v) {
-            if (volume.hu[m] > fluidHu || !hasColonAirAbove(v)) return false;
-            for (int step = 1; step <= r + 1; ++step) {
-                v[downAxis] += down.sign;
-                if (!grid.contains(v[0], v[1], v[2])) return false;
-                if (mark[grid.index(v[0], v[1], v[2])] == kFluid) return true;
-            }
-            return false;
-        };
         for (std::size_t n : pool) {
             const auto v = grid.voxelOf(n);
             for (int dk = -r; dk <= r; ++dk)
                 for (int dj = -r; dj <= r; ++dj)
                     for (int di = -r; di <= r; ++di) {
-                        const int a = v[0] + di, b = v[1] + dj, c = v[2] + dk;
-                        if (!grid.contains(a, b, c)) continue;
-                        const std::size_t m = grid.index(a, b, c);
-                        if (mark[m] != kNone || isLumen(m)) continue;
+                        const std::array<int, 3> w{v[0] + di, v[1] + dj, v[2] + dk};
+                        if (!grid.contains(w[0], w[1], w[2])) continue;
+                        const std::size_t m = grid.index(w[0], w[1], w[2]);
+                        if ((mark[m] & kDone) || isColonAir(m)) continue;
                         const double h = volume.hu[m];
-                        if (isBetweenAirAndFluid(m, std::array<int, 3>{a, b, c})) {
-                            // Air-fluid level: lumen whatever the mix of the two.
+                        if (hasColonAirAbove(w) && hasPoolAtOrBelow(w)) {
                             volume.hu[m] = static_cast<int16_t>(std::lround(settings.airHu));
-                            mark[m] = kEdgeLumen;
-                            ++report.edgeVoxels;
+                            mark[m] |= kDone | kLumen;
                         } else if (h > settings.tissueHu) {
-                            // Fluid-wall mix: the same fraction of air instead of fluid.
                             const double f = std::clamp((h - settings.tissueHu) / (fluidHu - settings.tissueHu), 0.0, 1.0);
                             volume.hu[m] = static_cast<int16_t>(
                                 std::lround(settings.tissueHu + f * (settings.airHu - settings.tissueHu)));
-                            mark[m] = f >= 0.5 ? kEdgeLumen : kEdge;
-                            ++report.edgeVoxels;
+                            mark[m] |= f >= 0.5 ? kDone | kLumen : kDone;
+                        } else {
+                            continue;  // wall or fat: not touched, and not counted
                         }
+                        if (!(mark[m] & kPool)) ++report.edgeVoxels;
                     }
         }
     }
-    // The pools' fluid becomes air; the mask keeps what became lumen.
-    for (std::size_t n = 0; n < mark.size(); ++n) {
-        if (mark[n] == kFluid) volume.hu[n] = static_cast<int16_t>(std::lround(settings.airHu));
-        mark[n] = mark[n] == kFluid || mark[n] == kEdgeLumen ? 1 : 0;
-    }
+    for (uint8_t& m : mark) m = (m & kLumen) ? 1 : 0;
     report.fluidMl = static_cast<double>(report.fluidVoxels) * voxelMl;
     return mark;
 }
