@@ -3,8 +3,9 @@
 # The product's default job. Installs what is missing, builds conformal-vc, makes the colon
 # phantom (with polyps and its ground truth), and renders the 5-wall Immersive Cabin for both
 # eyes through the conformal map, at the pose from which a polyp sits on the missing ceiling;
-# also writes the before/after sheet (walls without the map beside walls with it) and a
-# first-light picture of the shipped abdominal CT.
+# also writes the before/after sheet (walls without the map beside walls with it), a picture of
+# the shipped abdominal CT and a few stereo frames flown through its colon along the centreline
+# that `cvc colon` finds (`--path auto`).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/demo}
@@ -19,6 +20,9 @@ cvc=build/app/cvc
 ct=../shared/data/ct/ts_example_abdomen_3mm.nrrd
 if [ -f "$ct" ]; then
   "$cvc" render "$ct" --iso -500 --size 1024x1024 --force -o "$out/abdomen_ct.png"
+  # From the caecal end, where this scan's widest air-filled segment is.
+  "$cvc" render "$ct" --display ic5 --path auto --retrograde --frames 4 --path-step 10 --force \
+    -o "$out/abdomen_flythrough"
 else
   echo "demo: $ct not found; skipping the real-CT picture"
 fi
@@ -27,3 +31,5 @@ frame="$(cd "$out/ic5_polyp/frame_0000" && pwd)"
 echo "demo: the 5-wall stereo set is in $frame/left and $frame/right (front, back, left, right, floor)"
 echo "demo: review sheet (left eye, right eye, anaglyph): $frame/sheet.png"
 echo "demo: look at the before/after sheet: $frame/before_after.png"
+[ -d "$out/abdomen_flythrough" ] && echo "demo: the abdominal CT's colon and centreline: $out/abdomen_flythrough/colon/overview.png"
+true
