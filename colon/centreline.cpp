@@ -8,6 +8,7 @@
 
 #include "colon/colon_error.h"
 #include "colon/distance_transform.h"
+#include "volumes/polyline.h"
 
 namespace colon {
 namespace {
@@ -251,31 +252,6 @@ std::vector<glm::dvec3> medianAlongArc(const std::vector<glm::dvec3>& points, do
 
 }  // namespace
 
-double polylineLength(const std::vector<glm::dvec3>& points) {
-    double length = 0.0;
-    for (std::size_t i = 1; i < points.size(); ++i) length += glm::length(points[i] - points[i - 1]);
-    return length;
-}
-
-std::vector<glm::dvec3> resampleByArc(const std::vector<glm::dvec3>& points, double stepMm) {
-    if (points.size() < 2 || !(stepMm > 0.0)) return points;
-    std::vector<glm::dvec3> out{points.front()};
-    double carried = 0.0;
-    for (std::size_t i = 1; i < points.size(); ++i) {
-        glm::dvec3 from = points[i - 1];
-        double length = glm::length(points[i] - from);
-        while (carried + length >= stepMm && length > 0.0) {
-            from += ((stepMm - carried) / length) * (points[i] - from);
-            out.push_back(from);
-            length = glm::length(points[i] - from);
-            carried = 0.0;
-        }
-        carried += length;
-    }
-    if (glm::length(out.back() - points.back()) > 0.25 * stepMm) out.push_back(points.back());
-    return out;
-}
-
 SegmentCentreline centrelineOf(const Grid& grid, const std::vector<int32_t>& labels, int32_t label,
                                const VoxelBox& box, const CentrelineSettings& settings) {
     if (!(settings.smoothingMm >= 0.0) || !(settings.stepMm > 0.0)) {
@@ -283,7 +259,7 @@ SegmentCentreline centrelineOf(const Grid& grid, const std::vector<int32_t>& lab
     }
     const Crop crop = cropOf(grid, labels, label, box);
     const std::size_t voxels = static_cast<std::size_t>(std::count(crop.inside.begin(), crop.inside.end(), uint8_t{1}));
-    if (voxels < 3) throw ColonError("centreline: segment " + std::to_string(label) + " has under 3 voxels");
+    if (voxels < 3) return {};  // no path to speak of: the caller reports the segment as too short
 
     // 2. Endpoints: farthest from the most central voxel, then farthest from that.
     const std::size_t mostCentral = static_cast<std::size_t>(
@@ -343,8 +319,8 @@ SegmentCentreline centrelineOf(const Grid& grid, const std::vector<int32_t>& lab
         smoothAlongArc(crop, medianAlongArc(centred, settings.smoothingMm), settings.smoothingMm, margin);
 
     SegmentCentreline centreline;
-    centreline.pointsMm = resampleByArc(path, settings.stepMm);
-    centreline.lengthMm = polylineLength(centreline.pointsMm);
+    centreline.pointsMm = volumes::resampleByArc(path, settings.stepMm);
+    centreline.lengthMm = volumes::polylineLength(centreline.pointsMm);
     double sum = 0.0, minimum = std::numeric_limits<double>::max();
     for (double r : radius) {
         sum += r;

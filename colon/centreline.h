@@ -35,14 +35,9 @@ struct SegmentCentreline {
 };
 
 /// The centreline of the voxels of `labels` equal to `label` inside `box` (the segment's
-/// bounding box). Throws ColonError for a segment too small to have one (under 3 voxels).
+/// bounding box); empty (no points, length 0) for a segment of under 3 voxels. Throws
+/// ColonError for settings out of range.
 SegmentCentreline centrelineOf(const Grid& grid, const std::vector<int32_t>& labels, int32_t label,
                                const VoxelBox& box, const CentrelineSettings& settings);
-
-/// Resamples a polyline every stepMm of arc length (the last point kept).
-std::vector<glm::dvec3> resampleByArc(const std::vector<glm::dvec3>& points, double stepMm);
-
-/// Length of a polyline.
-double polylineLength(const std::vector<glm::dvec3>& points);
 
 }  // namespace colon

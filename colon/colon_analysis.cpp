@@ -151,7 +151,9 @@ ColonAnalysis analyseColon(volumes::Volume& volume, const ColonSettings& setting
         segment.voxels = part.voxels;
         segment.volumeMl = static_cast<double>(part.voxels) * voxelMl;
         segment.centreline = centrelineOf(air.grid, air.labels, part.label, part.box, settings.centreline);
-        if (segment.centreline.lengthMm < settings.minPathLengthMm) {
+        // A path needs two points a step apart to be flown or read back.
+        if (segment.centreline.pointsMm.size() < 2 ||
+            segment.centreline.lengthMm < std::max(settings.minPathLengthMm, settings.centreline.stepMm)) {
             analysis.shortSegmentsMl.push_back(segment.volumeMl);
             continue;
         }

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "volumes/parallel_for.h"
+#include "volumes/polyline.h"
 
 namespace volumes {
 namespace {
@@ -44,23 +45,7 @@ std::vector<glm::dvec3> smoothPolyline(const std::vector<glm::dvec3>& points) {
         }
     }
     dense.push_back(points.back());
-    // Resample at even arc length.
-    std::vector<glm::dvec3> even{dense.front()};
-    double carried = 0.0;
-    for (std::size_t i = 1; i < dense.size(); ++i) {
-        glm::dvec3 from = dense[i - 1];
-        double length = glm::length(dense[i] - from);
-        while (carried + length >= kCentrelineStepMm) {
-            const double t = (kCentrelineStepMm - carried) / length;
-            from = from + t * (dense[i] - from);
-            even.push_back(from);
-            length = glm::length(dense[i] - from);
-            carried = 0.0;
-        }
-        carried += length;
-    }
-    if (glm::length(even.back() - dense.back()) > 0.25 * kCentrelineStepMm) even.push_back(dense.back());
-    return even;
+    return resampleByArc(dense, kCentrelineStepMm);
 }
 
 /// The centreline with arc lengths and a rotation-minimising frame (Wang et al. 2008, double
@@ -744,6 +729,8 @@ std::string colonTruthJson(const ColonPhantomSpec& spec, const ColonPhantom& pha
     truth["centreline_start"] = "caecum";
     truth["centreline_end"] = "rectum";
     truth["centreline_order"] = "caecum_to_rectum";
+    // The grid is the patient frame (identity orientation): anterior is -y, the first pose's up.
+    truth["anterior"] = vec(glm::transpose(phantom.volume.directionLps) * glm::dvec3(0.0, -1.0, 0.0));
     truth["shape_seed"] = spec.shapeSeed;
     if (spec.hasBody) {
         truth["body"] = {{"shape", "elliptic cylinder along z, air outside"},
