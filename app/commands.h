@@ -13,5 +13,7 @@ void addPhantomCommand(CLI::App& program);
 void addInfoCommand(CLI::App& program);
 void addBakeCommand(CLI::App& program);
 void addColonCommand(CLI::App& program);
+void addPolypCheckCommand(CLI::App& program);
+void addInsertPolypCommand(CLI::App& program);
 
 }  // namespace app

@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
     app::addInfoCommand(program);
     app::addBakeCommand(program);
     app::addColonCommand(program);
+    app::addPolypCheckCommand(program);
+    app::addInsertPolypCommand(program);
 
     try {
         program.parse(argc, argv);

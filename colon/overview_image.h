@@ -5,19 +5,11 @@
 /// the image's left; anterior up in the axial panel, superior up in the other two.
 #pragma once
 
-#include <cstdint>
-#include <vector>
-
 #include "colon/colon_analysis.h"
+#include "colon/rgba_image.h"
 #include "volumes/volume.h"
 
 namespace colon {
-
-struct RgbaImage {
-    int width = 0;
-    int height = 0;
-    std::vector<uint8_t> rgba;
-};
 
 /// The overview of `analysis` over `ct` (the volume it was computed from, cleansed or not), panels at most
 /// maxPanelPixels on a side.

@@ -145,8 +145,11 @@ glm::dvec3 transportUp(const glm::dvec3& up, const glm::dvec3& fromForward, cons
     return glm::normalize(carried);
 }
 
-/// The segment that passes nearest to `pointMm` (a polyp is seen from its own segment).
+
+}  // namespace
+
 const std::vector<glm::dvec3>& nearestSegment(const Centreline& centreline, const glm::dvec3& pointMm) {
+    if (centreline.segments.empty()) throw std::invalid_argument("path: no segments");
     std::size_t best = 0;
     double bestDistance = std::numeric_limits<double>::max();
     for (std::size_t s = 0; s < centreline.segments.size(); ++s) {
@@ -159,8 +162,6 @@ const std::vector<glm::dvec3>& nearestSegment(const Centreline& centreline, cons
     }
     return centreline.segments[best];
 }
-
-}  // namespace
 
 Centreline readCentreline(const std::string& path) {
     std::ifstream in(path);

@@ -57,6 +57,10 @@ struct PathSettings {
 /// no segment is one step long.
 std::vector<CameraPose> posesAlongSegments(const Centreline& centreline, const PathSettings& settings);
 
+/// The segment of `centreline` that passes nearest to `pointMm` (a polyp is seen from its own
+/// segment). Throws std::invalid_argument for a centreline without segments.
+const std::vector<glm::dvec3>& nearestSegment(const Centreline& centreline, const glm::dvec3& pointMm);
+
 /// Poses every stepMm along `polyline` (start to end, or end to start for Retrograde), looking
 /// along the tangent averaged over +-smoothingMm of arc, with up carried by parallel transport
 /// (a rotation-minimizing frame), so the view never spins about the path. Throws

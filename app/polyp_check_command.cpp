@@ -1,0 +1,311 @@
+/// @brief `cvc polyp-check`: the polyp-shape regression suite. Every polyp of a ground truth is
+/// seen from poses along its path that put it on a wall, near the missing ceiling's edge, on the
+/// ceiling's directions and toward a corner, for both eyes, through the conformal map, the
+/// linear baseline and no map, and measured as the viewer sees it against a pinhole reference
+/// (engine/display/polyp_check.h). Writes a Markdown table, JSON and side-by-side crops.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "app/option_parsing.h"
+#include "app/progress_bar.h"
+#include "colon/polyp_truth.h"
+#include "engine/core/gpu_context.h"
+#include "engine/display/display_json.h"
+#include "engine/display/display_map.h"
+#include "engine/display/polyp_check.h"
+#include "engine/output/png_writer.h"
+#include "engine/render/volume_texture.h"
+#include "volumes/load_volume.h"
+
+namespace app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct PolypCheckOptions {
+    std::string volumePath;
+    std::string rawSpec;
+    std::string truthPath;
+    std::string display = "ic5";
+    std::vector<int> polyps;  // empty: every polyp of the truth
+    std::string outFolder;
+    std::string jsonPath;
+    std::string wallSize;  // empty: the display's own
+    int mapSize = 1024;
+    double mmPerMetre = 10.0;
+    std::string warp = "chord";
+    double angularRadiusDeg = 5.0;
+    std::string device;
+    bool force = false;
+};
+
+/// Walls of `display` resized to `width` pixels across its front, the same pixel density on
+/// every wall (the floor and back keep their proportions).
+void resizeWalls(engine::Display& display, const std::string& size) {
+    const auto [width, height] = parseImageSize(size);
+    const double perMetre = width / display.boxSizeM.x;
+    for (engine::DisplayWall& wall : display.walls) {
+        const engine::WallRectangle rect = engine::wallRectangle(display, wall.name);
+        wall.width = std::max(1, static_cast<int>(std::lround(glm::length(rect.widthM) * perMetre)));
+        wall.height = std::max(1, static_cast<int>(std::lround(glm::length(rect.heightM) * perMetre)));
+    }
+    (void)height;  // the height follows from the box's proportions, as the display's own walls do
+}
+
+nlohmann::json numberOrNull(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
+
+std::string mapName(conformal::MapKind kind) { return conformal::mapKindName(kind); }
+
+/// The worst error of each map over polyps of 6 mm and more seen on the ceiling's directions at
+/// the targeted poses (the acceptance figure).
+nlohmann::json worstOf(const std::vector<engine::PolypViewResult>& results, double engine::PolypViewResult::*error) {
+    std::map<std::string, double> worst;
+    for (const auto& r : results) {
+        if (r.diameterMm < 6.0 || !r.isOnCeiling || !r.isTargeted || r.map == conformal::MapKind::None) continue;
+        const double value = r.*error;
+        double& slot = worst.try_emplace(mapName(r.map), 0.0).first->second;
+        slot = std::isfinite(value) ? std::max(slot, value) : std::numeric_limits<double>::infinity();
+    }
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [map, value] : worst) out[map] = numberOrNull(value);
+    return out;
+}
+
+nlohmann::json resultsJson(const std::vector<engine::PolypViewResult>& results, const PolypCheckOptions& options,
+                           const engine::PolypCheckJob& job) {
+    nlohmann::json list = nlohmann::json::array();
+    std::map<std::string, const engine::PolypPose*> poseByName;
+    for (const auto& pose : job.poses) poseByName[pose.name] = &pose;
+    for (const auto& r : results) {
+        const engine::PolypPose& pose = *poseByName.at(r.pose);
+        list.push_back({{"polyp", r.polyp},
+                        {"diameter_mm", r.diameterMm},
+                        {"pose", r.pose},
+                        {"elevation_deg", pose.elevationDeg},
+                        {"azimuth_deg", pose.azimuthDeg},
+                        {"targeted", r.isTargeted},
+                        {"angular_radius_deg", r.angularRadiusDeg},
+                        {"singular_distance_deg", r.singularDistanceDeg},
+                        {"on_ceiling", r.isOnCeiling},
+                        {"eye", engine::eyeText(r.eye)},
+                        {"map", mapName(r.map)},
+                        {"visible", r.isVisible},
+                        {"visible_fraction", numberOrNull(r.visibleFraction)},
+                        {"pixels", r.view.pixels},
+                        {"pixels_across", r.view.pixelsAcross},
+                        {"reference_pixels", r.reference.pixels},
+                        {"aspect", r.view.aspect},
+                        {"reference_aspect", r.reference.aspect},
+                        {"orientation_deg", r.view.orientationDeg},
+                        {"circularity", r.view.circularity},
+                        {"reference_circularity", r.reference.circularity},
+                        {"grid_angle_deg", r.view.gridAngleDeg},
+                        {"reference_grid_angle_deg", r.reference.gridAngleDeg},
+                        {"aspect_error", numberOrNull(r.aspectError)},
+                        {"circularity_error", numberOrNull(r.circularityError)},
+                        {"grid_angle_error_deg", numberOrNull(r.gridAngleErrorDeg)},
+                        {"position_mm", {r.cameraPose.positionMm.x, r.cameraPose.positionMm.y, r.cameraPose.positionMm.z}},
+                        {"forward", {r.cameraPose.forward.x, r.cameraPose.forward.y, r.cameraPose.forward.z}},
+                        {"up", {r.cameraPose.up.x, r.cameraPose.up.y, r.cameraPose.up.z}}});
+    }
+    nlohmann::json doc;
+    doc["volume"] = fs::absolute(options.volumePath).string();
+    doc["truth"] = fs::absolute(options.truthPath).string();
+    doc["display"] = job.display.name;
+    doc["walls"] = nlohmann::json::array();
+    for (const auto& wall : job.display.walls) {
+        doc["walls"].push_back({{"name", engine::wallNameText(wall.name)}, {"width", wall.width}, {"height", wall.height}});
+    }
+    doc["warp"] = options.warp;
+    doc["mm_per_metre"] = job.mmPerMetre;
+    doc["tolerance_mm"] = job.toleranceMm;
+    doc["min_polyp_pixels"] = colon::kMinPolypPixels;
+    doc["results"] = list;
+    doc["worst_aspect_error"] = worstOf(results, &engine::PolypViewResult::aspectError);
+    doc["worst_circularity_error"] = worstOf(results, &engine::PolypViewResult::circularityError);
+    doc["worst_grid_angle_error_deg"] = worstOf(results, &engine::PolypViewResult::gridAngleErrorDeg);
+    doc["worst_over"] = "polyps of 6 mm and more whose direction falls on the missing ceiling, targeted poses";
+    return doc;
+}
+
+std::string percent(double fraction) {
+    if (!std::isfinite(fraction)) return "–";
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(1) << 100.0 * fraction << " %";
+    return text.str();
+}
+
+std::string markdownTable(const std::vector<engine::PolypViewResult>& results) {
+    std::ostringstream md;
+    md << "| polyp | mm | pose | on ceiling | eye | map | visible | px across | aspect error | circularity error | "
+          "grid angle error |\n|---:|---:|---|---|---|---|---|---:|---:|---:|---:|\n";
+    for (const auto& r : results) {
+        md << "| " << r.polyp << " | " << r.diameterMm << " | " << r.pose << (r.isTargeted ? "" : " (no target)") << " | "
+           << (r.isOnCeiling ? "yes" : "no") << " | " << engine::eyeText(r.eye) << " | " << mapName(r.map) << " | "
+           << (r.isVisible ? "yes" : r.map == conformal::MapKind::None ? "cut off (" + percent(r.visibleFraction) + ")" : "no")
+           << " | " << std::fixed << std::setprecision(0) << r.view.pixelsAcross << " | " << percent(r.aspectError)
+           << " | " << percent(r.circularityError) << " | ";
+        if (std::isfinite(r.gridAngleErrorDeg)) {
+            md << std::setprecision(2) << r.gridAngleErrorDeg << "°";
+        } else {
+            md << "–";
+        }
+        md << " |\n";
+    }
+    return md.str();
+}
+
+/// Reference | conformal | linear | none crops of one polyp, pose and eye, side by side.
+void writeCrops(const std::vector<engine::PolypViewResult>& results, const fs::path& folder, int cropSize) {
+    std::map<std::tuple<int, std::string, engine::Eye>, std::vector<const engine::PolypViewResult*>> rows;
+    for (const auto& r : results) rows[{r.polyp, r.pose, r.eye}].push_back(&r);
+    const int gap = 4;
+    for (const auto& [key, views] : rows) {
+        const int columns = 1 + static_cast<int>(views.size());
+        const int width = columns * cropSize + (columns - 1) * gap;
+        std::vector<uint8_t> rgba(static_cast<std::size_t>(width) * static_cast<std::size_t>(cropSize) * 4, 255);
+        const auto paste = [&](const colon::RgbaImage& crop, int column) {
+            if (crop.width != cropSize) return;  // nothing seen: left white
+            for (int row = 0; row < cropSize; ++row) {
+                std::copy_n(crop.rgba.begin() + static_cast<std::ptrdiff_t>(row) * cropSize * 4, cropSize * 4,
+                            rgba.begin() + (static_cast<std::ptrdiff_t>(row) * width + column * (cropSize + gap)) * 4);
+            }
+        };
+        paste(views.front()->referenceCrop, 0);
+        for (std::size_t v = 0; v < views.size(); ++v) paste(views[v]->crop, static_cast<int>(v) + 1);
+        const auto& [polyp, pose, eye] = key;
+        const fs::path file = folder / ("polyp_" + std::to_string(polyp) + "_" + pose + "_" + engine::eyeText(eye) + ".png");
+        engine::writePng(file.string(), width, cropSize, rgba, true);
+    }
+}
+
+void runPolypCheck(const PolypCheckOptions& options) {
+    engine::Display display = engine::loadDisplay(options.display);
+    if (!options.wallSize.empty()) resizeWalls(display, options.wallSize);
+    engine::validateDisplay(display);
+    if (display.map == conformal::MapKind::None) {
+        throw std::invalid_argument("display '" + display.name + "' has no map to check (it misses no wall)");
+    }
+    if (!(options.mmPerMetre > 0.0 && options.mmPerMetre <= 1000.0)) {
+        throw std::invalid_argument("--scale must be in (0, 1000] mm per metre");
+    }
+    if (options.mapSize < 16 || options.mapSize > 4096) throw std::invalid_argument("--map-size must be 16..4096");
+    const fs::path folder(options.outFolder);
+    const fs::path jsonFile = folder / "polyp_check.json", tableFile = folder / "polyp_check.md", crops = folder / "crops";
+    if (fs::exists(folder) && !fs::is_directory(folder)) throw std::runtime_error(options.outFolder + ": is not a folder");
+    if (!options.force && (fs::exists(jsonFile) || fs::exists(tableFile) || fs::exists(crops))) {
+        throw std::runtime_error(options.outFolder + ": holds an earlier polyp check (use --force to replace it)");
+    }
+    if (!options.jsonPath.empty()) requireWritableOutput(options.jsonPath, options.force);
+
+    engine::PolypCheckJob job;
+    job.display = display;
+    job.polyps = colon::readPolypTruth(options.truthPath);
+    job.centreline = engine::readCentreline(options.truthPath);
+    if (job.centreline.anterior) job.path.initialUp = *job.centreline.anterior;
+    if (options.polyps.empty()) {
+        for (int i = 0; i < static_cast<int>(job.polyps.size()); ++i) job.polypIndices.push_back(i);
+    } else {
+        job.polypIndices = options.polyps;
+    }
+    job.mmPerMetre = options.mmPerMetre;
+    job.angularRadiusDeg = options.angularRadiusDeg;
+    job.warpMode = options.warp == "exact" ? engine::WarpMode::Exact : engine::WarpMode::Chord;
+    job.settings.gradient = engine::GradientFilter::Central;
+    job.settings.lightHalfDistanceMm = 25.0;
+
+    volumes::LoadOptions load;
+    if (!options.rawSpec.empty()) load.raw = volumes::parseRawSpec(options.rawSpec);
+    const volumes::LoadedVolume loaded = volumes::loadVolumeWithBricks(options.volumePath, load);
+    job.toleranceMm = colon::polypToleranceMm(loaded.volume.spacingMm);
+    engine::GpuContext context(engine::GpuContextOptions{false, options.device});
+    engine::VolumeTexture texture(context, loaded.volume);
+    engine::Raycaster raycaster(context, loaded.volume, texture, loaded.bricks);
+    std::map<conformal::MapKind, conformal::CubeMap> cubeMaps;
+    for (conformal::MapKind kind : job.maps) {
+        if (kind == conformal::MapKind::None) continue;
+        engine::Display withMap = display;
+        withMap.map = kind;
+        cubeMaps[kind] = engine::cubeMapFor(withMap, options.mapSize, "");
+    }
+
+    std::optional<ProgressBar> progress;
+    const auto onProgress = [&progress](int done, int total) {
+        if (!progress) progress.emplace(std::cerr, total, 0, isatty(fileno(stderr)) != 0);
+        progress->update(done);
+    };
+    const auto results = engine::checkPolyps(
+        raycaster, job, [&cubeMaps](conformal::MapKind kind) -> const conformal::CubeMap& { return cubeMaps.at(kind); },
+        onProgress);
+    if (progress) progress->finish();
+
+    fs::create_directories(crops);
+    const nlohmann::json doc = resultsJson(results, options, job);
+    std::ofstream(jsonFile) << doc.dump(1) << '\n';
+    if (!options.jsonPath.empty()) std::ofstream(options.jsonPath) << doc.dump(1) << '\n';
+    std::ofstream(tableFile) << markdownTable(results);
+    writeCrops(results, crops, job.cropSize);
+    if (!fs::exists(jsonFile) || !fs::exists(tableFile)) throw std::runtime_error(options.outFolder + ": write failed");
+
+    std::cout << "checked " << job.polypIndices.size() << " polyp(s) x " << job.poses.size() << " poses x 2 eyes x "
+              << job.maps.size() << " maps on " << context.driverDescription() << '\n';
+    for (const char* key : {"worst_aspect_error", "worst_circularity_error"}) {
+        std::cout << key << " (polyps >= 6 mm on the ceiling):";
+        for (const auto& [map, value] : doc[key].items()) std::cout << ' ' << map << ' ' << percent(value.is_number() ? value.get<double>() : NAN);
+        std::cout << '\n';
+    }
+    std::cout << "wrote " << options.outFolder << '\n';
+}
+
+}  // namespace
+
+void addPolypCheckCommand(CLI::App& program) {
+    auto options = std::make_shared<PolypCheckOptions>();
+    CLI::App* command = program.add_subcommand(
+        "polyp-check", "Check that polyps keep their shape through the display's map: each seen on a wall, at the "
+                       "ceiling's edge, on the ceiling and toward a corner, against a pinhole reference");
+    command
+        ->add_option("volume,--volume", options->volumePath,
+                     "Volume: DICOM folder, .nrrd/.nhdr, .nii/.nii.gz, .mha/.mhd, .vdb, or raw with --raw")
+        ->required();
+    command->add_option("--raw", options->rawSpec, "Describe a headerless raw file, e.g. 512x512x451:int16:0.7x0.7x1.25");
+    command->add_option("--truth", options->truthPath,
+                        "Ground truth with polyps and a centreline (cvc phantom's JSON, or cvc insert-polyp's)")
+        ->required();
+    command->add_option("--display", options->display, "Display preset or JSON file with a missing wall")->capture_default_str();
+    command->add_option("--polyps", options->polyps, "Polyps to check, by index in the truth (default: all)")
+        ->delimiter(',');
+    command->add_option("-o,--out", options->outFolder, "Output folder")->required();
+    command->add_option("--json", options->jsonPath, "Also write the results' JSON to this file");
+    command->add_option("--wall-size", options->wallSize,
+                        "Front wall size WIDTHxHEIGHT in pixels, the other walls at the same density (default: the "
+                        "display's)");
+    command->add_option("--map-size", options->mapSize, "Cube-map face size of the baked maps")->capture_default_str();
+    command->add_option("--scale", options->mmPerMetre, "Volume millimetres per CAVE metre")->capture_default_str();
+    command->add_option("--warp", options->warp, "chord (the display default) or exact")
+        ->check(CLI::IsMember({"chord", "exact"}))
+        ->capture_default_str();
+    command->add_option("--angular-radius", options->angularRadiusDeg,
+                        "The polyp's angular radius from the eye in degrees (sets the eye's distance)")
+        ->check(CLI::Range(1.0, 30.0))
+        ->capture_default_str();
+    command->add_option("--device", options->device, "Vulkan device: an index, part of its name, cpu or gpu");
+    command->add_flag("--force", options->force, "Replace an earlier check in the output folder");
+    command->callback([options] { runPolypCheck(*options); });
+}
+
+}  // namespace app
