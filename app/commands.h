@@ -15,5 +15,6 @@ void addBakeCommand(CLI::App& program);
 void addColonCommand(CLI::App& program);
 void addPolypCheckCommand(CLI::App& program);
 void addInsertPolypCommand(CLI::App& program);
+void addMeasureCommand(CLI::App& program);
 
 }  // namespace app

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     app::addColonCommand(program);
     app::addPolypCheckCommand(program);
     app::addInsertPolypCommand(program);
+    app::addMeasureCommand(program);
 
     try {
         program.parse(argc, argv);
