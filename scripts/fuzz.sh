@@ -12,7 +12,7 @@ CXX=clang++ cmake -S fuzz -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDeb
 cmake --build "$build_dir" --parallel "$(nproc 2>/dev/null || echo 2)"
 
 root=$(pwd)
-for target in fuzz_nrrd fuzz_metaimage fuzz_raw_spec; do
+for target in fuzz_nrrd fuzz_metaimage fuzz_raw_spec fuzz_centreline fuzz_polyp_truth fuzz_hit_image; do
   seeds="$root/fuzz/corpus/${target#fuzz_}"
   work="$build_dir/corpus/$target"
   mkdir -p "$work"

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iomanip>
 #include <iterator>
 #include <limits>
 #include <sstream>
@@ -245,11 +246,14 @@ std::vector<CameraPose> posesAlong(const std::vector<glm::dvec3>& polyline, cons
         const double f = span > 0.0 ? (s - arc[j]) / span : 0.0;
         return glm::mix(points[j], points[i], f);
     };
+    if (!std::isfinite(total)) throw std::invalid_argument("path: its length overflows (coordinates too large)");
     if (total < settings.stepMm) throw std::invalid_argument("path: shorter than one step");
     const double frameCount = std::floor(total / settings.stepMm) + 1.0;
     if (frameCount > settings.maxFrames) {
-        throw std::invalid_argument("path: " + std::to_string(static_cast<long long>(frameCount)) +
-                                    " frames exceed the limit of " + std::to_string(settings.maxFrames));
+        // Printed as a double: a path of absurd length has more frames than any integer type holds.
+        std::ostringstream message;
+        message << "path: " << std::setprecision(4) << frameCount << " frames exceed the limit of " << settings.maxFrames;
+        throw std::invalid_argument(message.str());
     }
 
     std::vector<CameraPose> poses;

@@ -182,4 +182,22 @@ TEST(CameraPath, SegmentsAndTheirOrderFromTextAndJson) {
     EXPECT_THROW(engine::readCentreline(badStarts.string()), std::runtime_error) << "a segment of one point";
 }
 
+TEST(CameraPath, AbsurdLengthsAreRefusedInOneLine) {
+    // Found by fuzzing: a path 1e36 mm long has more frames than any integer holds, and one
+    // from -1e308 to 1e308 an infinite length; both are refused with a message, never cast.
+    engine::PathSettings settings;
+    try {
+        engine::posesAlong({{0, 0, 0}, {0, 0, 1e36}}, settings);
+        FAIL() << "a path of 1e36 mm must be refused";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("5e+35 frames exceed the limit"), std::string::npos) << e.what();
+    }
+    try {
+        engine::posesAlong({{-1e308, 0, 0}, {1e308, 0, 0}}, settings);
+        FAIL() << "a path of infinite length must be refused";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("length overflows"), std::string::npos) << e.what();
+    }
+}
+
 }  // namespace
