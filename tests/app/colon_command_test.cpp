@@ -20,7 +20,7 @@ fs::path tmp(const std::string& name) { return fs::path(CVC_TEST_TMP_DIR) / name
 const fs::path& anatomyPhantom() {
     static const fs::path volume = [] {
         fs::create_directories(tmp("colon_cli"));
-        const fs::path path = tmp("colon_cli/anatomy.nrrd");
+        const fs::path path = testing_support::processTmp("colon_cli_anatomy.nrrd");
         const auto run = runCvc("phantom --anatomy --size 128 --spacing 1.2 --force -o " + path.string());
         EXPECT_EQ(run.exitCode, 0) << run.err;
         return path;
@@ -71,7 +71,7 @@ TEST(CvcColon, AScanWithoutAColonGetsOneClearLine) {
 }
 
 TEST(CvcRender, PathAutoFliesAlongTheCentrelineOfTheCleansedScan) {
-    const fs::path display = tmp("colon_cli/tiny.json");
+    const fs::path display = testing_support::processTmp("colon_cli_tiny.json");
     std::ofstream(display) << R"({"name": "tiny", "box_size_m": [2.4, 2.4, 2.4], "map": "none", "walls": [
         {"name": "front", "width": 24, "height": 18}, {"name": "floor", "width": 24, "height": 24}]})";
     const fs::path out = tmp("colon_cli/auto");

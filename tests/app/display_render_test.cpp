@@ -21,11 +21,11 @@ const char* kWalls[] = {"front", "back", "left", "right", "floor"};
 struct SmallScene {
     SmallScene() {
         fs::create_directories(tmp("display"));
-        volume = tmp("display/tube.nrrd");
+        volume = testing_support::processTmp("display_tube.nrrd");
         EXPECT_EQ(runCvc("phantom --kind tube --size 32 --force -o " + volume.string()).exitCode, 0);
-        path = tmp("display/path.txt");
+        path = testing_support::processTmp("display_path.txt");
         std::ofstream(path) << "15.5 15.5 5\n15.5 15.5 10\n15.5 15.5 15\n";
-        display = tmp("display/tiny.json");
+        display = testing_support::processTmp("display_tiny.json");
         std::ofstream(display) << R"({"name": "tiny", "box_size_m": [2.4, 2.4, 2.4], "map": "none", "walls": [
             {"name": "front", "width": 32, "height": 24}, {"name": "back", "width": 32, "height": 24},
             {"name": "left", "width": 32, "height": 24}, {"name": "right", "width": 32, "height": 24},

@@ -36,7 +36,7 @@ std::string list(const glm::dvec3& v) {
 const fs::path& phantom() {
     static const fs::path volume = [] {
         fs::create_directories(tmp(""));
-        const fs::path path = tmp("colon.nrrd");
+        const fs::path path = testing_support::processTmp("measure_colon.nrrd");
         const auto run = runCvc("phantom --size 200 --spacing 0.6 --polyp sessile:3:0.2:30 --polyp sessile:6:0.38:150 "
                                 "--polyp sessile:10:0.55:270 --polyp sessile:15:0.72:90 --polyp "
                                 "pedunculated:8:0.88:210:1.5 --force -o " +

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace testing_support {
 
@@ -21,6 +22,17 @@ inline std::string readWholeFile(const std::filesystem::path& path) {
     std::ostringstream text;
     text << in.rdbuf();
     return text.str();
+}
+
+/// A scratch path of this test process alone: CTest runs the tests of one executable as
+/// separate processes in parallel, so a fixture that writes a shared input file (a phantom, a
+/// path) must not write it where another test's process may be reading it.
+inline std::filesystem::path processTmp(const std::string& name) {
+    std::string file = "p";  // appended piece by piece: GCC 12 warns (-Wrestrict) on "p" + a + b
+    file += std::to_string(::getpid());
+    file += '_';
+    file += name;
+    return std::filesystem::path(CVC_TEST_TMP_DIR) / file;
 }
 
 /// Runs `CVC_BINARY arguments` through the shell with `environment` prefixed (e.g.
