@@ -11,7 +11,7 @@ namespace colon {
 namespace {
 
 constexpr int kSteps = 4;
-/// Segments beyond the 245th share the last code of the label volume (the report lists them all).
+/// The largest code of the label volume (a byte's).
 constexpr int kMaxLabelCode = 255;
 
 /// The air segmentation's labels turned into the lumen's: colon air and cleansed voxels become
@@ -176,7 +176,9 @@ ColonAnalysis analyseColon(volumes::Volume& volume, const ColonSettings& setting
     for (std::size_t s = 0; s < segments.size(); ++s) {
         for (const auto& [point, label] : partOfStart) {
             if (point == segments[s].centreline.pointsMm.front()) {
-                codeOfPart[static_cast<std::size_t>(label)] = static_cast<int16_t>(kLabelFirstSegment + s);
+                // Beyond the 245th segment every one shares the last code (the report lists them all).
+                codeOfPart[static_cast<std::size_t>(label)] =
+                    static_cast<int16_t>(std::min<std::size_t>(kLabelFirstSegment + s, kMaxLabelCode));
             }
         }
     }
