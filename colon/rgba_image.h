@@ -1,5 +1,5 @@
-/// @brief An 8-bit RGBA picture made by the colon analysis (overview, polyp crops), row 0 at the
-/// top; the app writes it as PNG.
+/// @brief An 8-bit RGBA picture, row 0 at the top: the colon analysis's overview and polyp crops,
+/// and the engine's wall images and review sheets (engine::RgbaImage is this type).
 #pragma once
 
 #include <cstdint>

@@ -6,16 +6,14 @@
 #include <map>
 #include <vector>
 
+#include "colon/rgba_image.h"
 #include "engine/display/display.h"
 
 namespace engine {
 
-/// An 8-bit RGBA image, row 0 at the top.
-struct RgbaImage {
-    int width = 0;
-    int height = 0;
-    std::vector<uint8_t> rgba;
-};
+/// An 8-bit RGBA image, row 0 at the top: the one picture type of the project (the colon
+/// analysis, below the engine, makes its overview and polyp crops in it too).
+using RgbaImage = colon::RgbaImage;
 
 /// An image of `width` x `height` filled with one colour.
 RgbaImage filledImage(int width, int height, uint8_t r, uint8_t g, uint8_t b);
