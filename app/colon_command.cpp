@@ -24,13 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void writeText(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error(path + ": write failed");
-}
-
 ColonOutputs outputsIn(const std::string& folder) {
     const fs::path dir(folder);
     return {(dir / "colon.json").string(), (dir / "centreline.txt").string(), (dir / "lumen.nrrd").string(),
@@ -104,12 +97,12 @@ ColonOutputs runColonAnalysis(const ColonRequest& request) {
         if (overwrite && fs::exists(outputs.cleansedNrrd)) fs::remove(outputs.cleansedNrrd);  // stale from an earlier run
         outputs.cleansedNrrd.clear();
     }
-    writeText(outputs.centrelineText, colon::centrelineText(analysis));
+    writeTextFile(outputs.centrelineText, colon::centrelineText(analysis));
     const std::string json = colon::colonJson(analysis, volume, fs::absolute(request.volumePath).string());
     const colon::RgbaImage overview = colon::overviewImage(volume, analysis);  // the scan as rendered: cleansed
     engine::writePng(outputs.overviewPng, overview.width, overview.height, overview.rgba, true);
-    writeText(outputs.colonJson, json);  // last: its presence marks a finished analysis
-    if (!request.jsonPath.empty()) writeText(request.jsonPath, json);
+    writeTextFile(outputs.colonJson, json);  // last: its presence marks a finished analysis
+    if (!request.jsonPath.empty()) writeTextFile(request.jsonPath, json);
     printSummary(analysis, outputs);
     return outputs;
 }

@@ -136,13 +136,6 @@ nlohmann::json truthJson(const InsertPolypOptions& options, const volumes::Volum
     return truth;
 }
 
-void writeText(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error(path + ": write failed");
-}
-
 void runInsertPolyp(const InsertPolypOptions& options) {
     colon::PolypInsertion request;
     request.atMm = vec3From(options.atMm, "--at");
@@ -172,7 +165,7 @@ void runInsertPolyp(const InsertPolypOptions& options) {
     const double arcMm = centreline.is_null() ? 0.0 : arcLengthMm(centreline, polyp.truth.baseMm);
     const nlohmann::json entry = polypJson(polyp, arcMm);
     volumes::writeNrrd(volume, options.outPath, options.force);
-    writeText(truthPath, truthJson(options, volume, centreline, entry).dump(2) + "\n");
+    writeTextFile(truthPath, truthJson(options, volume, centreline, entry).dump(2) + "\n");
     if (!options.jsonPath.empty()) {
         nlohmann::json summary = {{"volume", fs::absolute(options.outPath).string()},
                                   {"truth", fs::absolute(truthPath).string()},
@@ -180,7 +173,7 @@ void runInsertPolyp(const InsertPolypOptions& options) {
                                   {"air_hu", polyp.airHu},
                                   {"wall_10_90_mm", polyp.wallBlurMm},
                                   {"voxels_changed", polyp.voxelsChanged}};
-        writeText(options.jsonPath, summary.dump(2) + "\n");
+        writeTextFile(options.jsonPath, summary.dump(2) + "\n");
     }
     const glm::dvec3& base = polyp.truth.baseMm;
     std::cout << std::fixed << std::setprecision(1) << "inserted a " << options.diameterMm << " mm "

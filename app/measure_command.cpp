@@ -101,12 +101,7 @@ void runMeasure(const MeasureOptions& options) {
             summary["fitted_sphere"] = {{"centre_mm", vec(patch.sphereCentreMm)}, {"radius_mm", patch.sphereRadiusMm}};
         }
     }
-    if (!options.jsonPath.empty()) {
-        std::ofstream out(options.jsonPath, std::ios::trunc);
-        out << summary.dump(2) << '\n';
-        out.close();
-        if (!out) throw std::runtime_error(options.jsonPath + ": write failed");
-    }
+    if (!options.jsonPath.empty()) writeTextFile(options.jsonPath, summary.dump(2) + "\n");
     std::cout << line.str() << '\n';
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include <unistd.h>
@@ -48,6 +49,13 @@ void requireWritableOutput(const std::string& path, bool force) {
     if (access(parent.c_str(), W_OK) != 0) {
         throw std::runtime_error(path + ": output folder " + parent.string() + " is not writable");
     }
+}
+
+void writeTextFile(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) throw std::runtime_error(path + ": write failed");
 }
 
 }  // namespace app

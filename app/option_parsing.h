@@ -20,4 +20,8 @@ glm::dvec3 vec3From(const std::vector<double>& values, const std::string& option
 /// not exist or is not writable, so a long render never fails at its very end.
 void requireWritableOutput(const std::string& path, bool force);
 
+/// Writes `text` to `path`, replacing it; throws std::runtime_error naming the file when the
+/// write fails (a full disk, a file-size limit).
+void writeTextFile(const std::string& path, const std::string& text);
+
 }  // namespace app

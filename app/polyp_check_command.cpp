@@ -255,11 +255,10 @@ void runPolypCheck(const PolypCheckOptions& options) {
 
     fs::create_directories(crops);
     const nlohmann::json doc = resultsJson(results, options, job);
-    std::ofstream(jsonFile) << doc.dump(1) << '\n';
-    if (!options.jsonPath.empty()) std::ofstream(options.jsonPath) << doc.dump(1) << '\n';
-    std::ofstream(tableFile) << markdownTable(results);
+    writeTextFile(jsonFile.string(), doc.dump(1) + "\n");
+    if (!options.jsonPath.empty()) writeTextFile(options.jsonPath, doc.dump(1) + "\n");
+    writeTextFile(tableFile.string(), markdownTable(results));
     writeCrops(results, crops, job.cropSize);
-    if (!fs::exists(jsonFile) || !fs::exists(tableFile)) throw std::runtime_error(options.outFolder + ": write failed");
 
     std::cout << "checked " << job.polypIndices.size() << " polyp(s) x " << job.poses.size() << " poses x 2 eyes x "
               << job.maps.size() << " maps on " << context.driverDescription() << '\n';
