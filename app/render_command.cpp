@@ -35,14 +35,12 @@ engine::PinholeCamera cameraFrom(const RenderOptions& options, const volumes::Vo
     camera.verticalFovDeg = options.fovDeg;
     const glm::dvec3 centre = (glm::dvec3(volume.dims[0], volume.dims[1], volume.dims[2]) - 1.0) * 0.5 * volume.spacingMm;
     camera.lookAtMm = options.lookAtMm.empty() ? centre : vec3From(options.lookAtMm, "--look-at");
-    // Patient-frame vectors become volume-frame vectors through the inverse (transpose) of
-    // the orthonormal direction matrix.
-    const glm::dmat3 volumeFromPatient = glm::transpose(volume.directionLps);
-    camera.up = options.up.empty() ? volumeFromPatient * glm::dvec3(0.0, 0.0, 1.0) : vec3From(options.up, "--up");
+    camera.up = options.up.empty() ? volumes::volumeDirectionFromPatient(volume, glm::dvec3(0.0, 0.0, 1.0))
+                                   : vec3From(options.up, "--up");
     if (options.positionMm.empty()) {
         const double radius = 0.5 * glm::length(volume.extentMm());
         const double distance = radius / std::sin(glm::radians(std::min(options.fovDeg, 170.0)) * 0.5);
-        const glm::dvec3 anterior = volumeFromPatient * glm::dvec3(0.0, -1.0, 0.0);
+        const glm::dvec3 anterior = volumes::volumeDirectionFromPatient(volume, glm::dvec3(0.0, -1.0, 0.0));
         camera.positionMm = camera.lookAtMm + anterior * distance;
     } else {
         camera.positionMm = vec3From(options.positionMm, "--position");

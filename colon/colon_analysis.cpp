@@ -34,7 +34,7 @@ std::vector<int16_t> classCodes(const AirSegmentation& air) {
 
 /// Caecum-likeness of a point: far to the patient's right (low L) and low (low S).
 double caecumScore(const volumes::Volume& volume, const glm::dvec3& pointMm) {
-    const glm::dvec3 lps = patientFromVolumeMm(volume, pointMm);
+    const glm::dvec3 lps = volumes::patientFromVolumeMm(volume, pointMm);
     return -2.0 * lps.x - lps.z;
 }
 
@@ -97,14 +97,6 @@ void orderAntegrade(const volumes::Volume& volume, std::vector<ColonSegment>& se
 
 }  // namespace
 
-glm::dvec3 patientFromVolumeMm(const volumes::Volume& volume, const glm::dvec3& pointMm) {
-    return volume.originLps + volume.directionLps * pointMm;
-}
-
-glm::dvec3 anteriorDirection(const volumes::Volume& volume) {
-    return glm::normalize(glm::transpose(volume.directionLps) * glm::dvec3(0.0, -1.0, 0.0));
-}
-
 ColonAnalysis analyseColon(volumes::Volume& volume, const ColonSettings& settings, const ColonProgress& progress) {
     const auto start = std::chrono::steady_clock::now();
     const auto report = [&](const std::string& step, int done) {
@@ -112,7 +104,7 @@ ColonAnalysis analyseColon(volumes::Volume& volume, const ColonSettings& setting
     };
     if (!(settings.minPathLengthMm >= 0.0)) throw ColonError("the shortest path length must be non-negative");
     ColonAnalysis analysis;
-    analysis.anteriorMm = anteriorDirection(volume);
+    analysis.anteriorMm = volumes::volumeDirectionFromPatient(volume, kAnteriorLps);
 
     report("segmenting air", 0);
     AirSegmentation air = segmentAir(volume, settings.segmentation);

@@ -72,10 +72,4 @@ using ColonProgress = std::function<void(const std::string& step, int done, int 
 /// cleansed in place. Throws ColonError when no colon is found, naming what was found.
 ColonAnalysis analyseColon(volumes::Volume& volume, const ColonSettings& settings, const ColonProgress& progress = {});
 
-/// The patient's anterior direction in volume millimetres (from the orientation matrix).
-glm::dvec3 anteriorDirection(const volumes::Volume& volume);
-
-/// Patient LPS millimetres of a point in volume millimetres.
-glm::dvec3 patientFromVolumeMm(const volumes::Volume& volume, const glm::dvec3& pointMm);
-
 }  // namespace colon

@@ -10,36 +10,11 @@
 namespace colon {
 namespace {
 
-/// The grid axis closest to gravity and the sign of a step down it.
-struct DownAxis {
-    int axis = 1;
-    int sign = 1;
-};
-
-DownAxis downAxisOf(const volumes::Volume& volume) {
-    const glm::dvec3 g = gravityDirection(volume);
-    DownAxis down;
-    double best = -1.0;
-    for (int a = 0; a < 3; ++a) {
-        if (std::abs(g[a]) > best) {
-            best = std::abs(g[a]);
-            down.axis = a;
-            down.sign = g[a] >= 0.0 ? 1 : -1;
-        }
-    }
-    return down;
-}
-
 /// What the search has made of a voxel, as bits: a tagged voxel seen, one of a pool's voxels,
 /// a voxel whose HU was rewritten, a voxel that became lumen.
 enum Mark : uint8_t { kSeen = 1, kPool = 2, kDone = 4, kLumen = 8 };
 
 }  // namespace
-
-glm::dvec3 gravityDirection(const volumes::Volume& volume) {
-    // Volume millimetres map to LPS by directionLps (orthonormal): its transpose maps back.
-    return glm::normalize(glm::transpose(volume.directionLps) * glm::dvec3(0.0, 1.0, 0.0));
-}
 
 std::vector<uint8_t> cleanseTaggedFluid(volumes::Volume& volume, const AirSegmentation& air,
                                         const CleansingSettings& settings, CleansingReport& report) {
@@ -60,7 +35,7 @@ std::vector<uint8_t> cleanseTaggedFluid(volumes::Volume& volume, const AirSegmen
         const int32_t label = air.labels[n];
         return label > 0 && isColonLabel[static_cast<std::size_t>(label)] != 0;
     };
-    const DownAxis down = downAxisOf(volume);
+    const VoxelAxis down = voxelAxisAlong(volume, kPosteriorLps);  // gravity, the patient supine
     const auto downAxis = static_cast<std::size_t>(down.axis);
     const int gapVoxels = std::max(1, static_cast<int>(std::ceil(settings.levelGapMm / grid.spacingMm[down.axis])));
     const double voxelMl = grid.spacingMm.x * grid.spacingMm.y * grid.spacingMm.z / 1000.0;

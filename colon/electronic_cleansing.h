@@ -51,8 +51,4 @@ struct CleansingReport {
 std::vector<uint8_t> cleanseTaggedFluid(volumes::Volume& volume, const AirSegmentation& air,
                                         const CleansingSettings& settings, CleansingReport& report);
 
-/// The unit vector of gravity for a supine patient (toward the patient's back, LPS +P), in
-/// volume millimetres.
-glm::dvec3 gravityDirection(const volumes::Volume& volume);
-
 }  // namespace colon

@@ -88,14 +88,14 @@ const char* airClassName(AirClass kind) {
     return "unknown";
 }
 
-int headFootAxis(const volumes::Volume& volume) {
-    int best = 2;
+VoxelAxis voxelAxisAlong(const volumes::Volume& volume, const glm::dvec3& directionLps) {
+    const glm::dvec3 d = volumes::volumeDirectionFromPatient(volume, directionLps);
+    VoxelAxis best;
     double bestWeight = -1.0;
     for (int a = 0; a < 3; ++a) {
-        const double weight = std::abs(volume.directionLps[a].z);  // column a: grid axis a in LPS
-        if (weight > bestWeight) {
-            bestWeight = weight;
-            best = a;
+        if (std::abs(d[a]) > bestWeight) {
+            bestWeight = std::abs(d[a]);
+            best = {a, d[a] >= 0.0 ? 1 : -1};
         }
     }
     return best;
@@ -115,7 +115,7 @@ AirSegmentation segmentAir(const volumes::Volume& volume, const SegmentationSett
         air.labels[n] = volume.hu[n] < settings.airThresholdHu ? kUnlabelled : 0;
     }
     const std::vector<Component> components = labelComponents(air.grid, air.labels);
-    const int headFoot = headFootAxis(volume);
+    const int headFoot = voxelAxisAlong(volume, kSuperiorLps).axis;
     const double ml = voxelMl(air.grid);
     for (const Component& component : components) {
         AirRegion region;

@@ -60,9 +60,18 @@ struct AirSegmentation {
     std::vector<AirRegion> regions;  ///< largest first
 };
 
-/// The voxel axis that runs along the patient's head-foot axis (0, 1 or 2), from the volume's
-/// orientation matrix.
-int headFootAxis(const volumes::Volume& volume);
+/// The voxel axis (0, 1 or 2) closest to a direction of the patient frame (LPS), from the
+/// volume's orientation matrix, and the sign of a voxel step along it that goes that way.
+struct VoxelAxis {
+    int axis = 2;
+    int sign = 1;
+};
+VoxelAxis voxelAxisAlong(const volumes::Volume& volume, const glm::dvec3& directionLps);
+
+/// Patient-frame directions the analysis orients itself by.
+inline constexpr glm::dvec3 kSuperiorLps{0.0, 0.0, 1.0};
+inline constexpr glm::dvec3 kPosteriorLps{0.0, 1.0, 0.0};  ///< gravity for a supine patient
+inline constexpr glm::dvec3 kAnteriorLps{0.0, -1.0, 0.0};
 
 /// Segments the air of `volume` and classifies every region by the rules above. Throws
 /// ColonError for settings out of range.

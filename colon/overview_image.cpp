@@ -39,7 +39,7 @@ Frame frameOf(const volumes::Volume& ct, int maxPanelPixels) {
     for (int corner = 0; corner < 8; ++corner) {
         const glm::dvec3 index((corner & 1) ? ct.dims[0] - 1 : 0, (corner & 2) ? ct.dims[1] - 1 : 0,
                                (corner & 4) ? ct.dims[2] - 1 : 0);
-        const glm::dvec3 lps = ct.originLps + ct.directionLps * (index * ct.spacingMm);
+        const glm::dvec3 lps = volumes::patientFromVolumeMm(ct, index * ct.spacingMm);
         frame.lowLps = glm::min(frame.lowLps, lps);
         frame.highLps = glm::max(frame.highLps, lps);
     }
@@ -154,16 +154,16 @@ RgbaImage overviewImage(const volumes::Volume& ct, const ColonAnalysis& analysis
         for (const ColonSegment& segment : analysis.segments) {
             const auto& points = segment.centreline.pointsMm;
             for (std::size_t i = 0; i + 1 < points.size(); ++i) {
-                const glm::dvec2 a = pointToPixel(p, patientFromVolumeMm(ct, points[i]), left);
-                const glm::dvec2 b = pointToPixel(p, patientFromVolumeMm(ct, points[i + 1]), left);
+                const glm::dvec2 a = pointToPixel(p, volumes::patientFromVolumeMm(ct, points[i]), left);
+                const glm::dvec2 b = pointToPixel(p, volumes::patientFromVolumeMm(ct, points[i + 1]), left);
                 const int steps = std::max(1, static_cast<int>(std::ceil(glm::length(b - a) * 2.0)));
                 for (int s = 0; s <= steps; ++s) plot(glm::mix(a, b, double(s) / steps), {255, 230, 0}, 1);
             }
         }
         if (!analysis.segments.empty()) {
-            plot(pointToPixel(p, patientFromVolumeMm(ct, analysis.segments.front().centreline.pointsMm.front()), left),
+            plot(pointToPixel(p, volumes::patientFromVolumeMm(ct, analysis.segments.front().centreline.pointsMm.front()), left),
                  {0, 220, 0}, 4);
-            plot(pointToPixel(p, patientFromVolumeMm(ct, analysis.segments.back().centreline.pointsMm.back()), left),
+            plot(pointToPixel(p, volumes::patientFromVolumeMm(ct, analysis.segments.back().centreline.pointsMm.back()), left),
                  {230, 0, 0}, 4);
         }
         left += width + gap;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "colon/colon_error.h"
+#include "volumes/polyline.h"
 
 namespace colon {
 namespace {
@@ -401,19 +402,12 @@ std::size_t paintPolyp(volumes::Volume& volume, const InsertedPolyp& polyp) {
     return changed;
 }
 
-double segmentDistanceMm(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
-    const glm::dvec3 ab = b - a;
-    const double length2 = glm::dot(ab, ab);
-    const double t = length2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / length2, 0.0, 1.0) : 0.0;
-    return glm::length(p - (a + t * ab));
-}
-
 }  // namespace
 
 double InsertedPolyp::signedDistanceMm(const glm::dvec3& pointMm) const {
     double distance = glm::length(pointMm - truth.centreMm) - truth.radiusMm;
     if (stalkRadiusMm > 0.0) {
-        distance = std::min(distance, segmentDistanceMm(pointMm, stalkStartMm, stalkEndMm) - stalkRadiusMm);
+        distance = std::min(distance, volumes::distanceToSegmentMm(pointMm, stalkStartMm, stalkEndMm) - stalkRadiusMm);
     }
     return distance;
 }

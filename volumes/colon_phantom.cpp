@@ -106,13 +106,6 @@ struct PolypSolid {
     double stalkRadiusMm = 0.0;
 };
 
-double segmentDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, double& t) {
-    const glm::dvec3 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return glm::length(p - (a + t * ab));
-}
-
 /// Signed distance to the polyps' union (negative inside a polyp).
 double polypDistance(const std::vector<PolypSolid>& polyps, const glm::dvec3& p) {
     double d = std::numeric_limits<double>::max();
@@ -120,7 +113,7 @@ double polypDistance(const std::vector<PolypSolid>& polyps, const glm::dvec3& p)
         d = std::min(d, glm::length(p - polyp.truth.centreMm) - polyp.truth.radiusMm);
         if (polyp.truth.kind == PolypKind::Pedunculated) {
             double t = 0.0;
-            d = std::min(d, segmentDistance(p, polyp.stalkStart, polyp.stalkEnd, t) - polyp.stalkRadiusMm);
+            d = std::min(d, distanceToSegmentMm(p, polyp.stalkStart, polyp.stalkEnd, &t) - polyp.stalkRadiusMm);
         }
     }
     return d;
@@ -258,7 +251,7 @@ std::vector<glm::dvec3> lungBoundarySamples(const LungTruth& lung, double topMm)
 
 double polylineDistance(const std::vector<glm::dvec3>& line, const glm::dvec3& p) {
     double best = std::numeric_limits<double>::max(), t = 0.0;
-    for (std::size_t i = 0; i + 1 < line.size(); ++i) best = std::min(best, segmentDistance(p, line[i], line[i + 1], t));
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) best = std::min(best, distanceToSegmentMm(p, line[i], line[i + 1], &t));
     return best;
 }
 
@@ -610,7 +603,7 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
                 for (int j = jLo; j <= jHi; ++j)
                     for (int iv = iLo; iv <= iHi; ++iv) {
                         double t = 0.0;
-                        const double d = segmentDistance(glm::dvec3(iv, j, k) * spacing, a, b, t);
+                        const double d = distanceToSegmentMm(glm::dvec3(iv, j, k) * spacing, a, b, &t);
                         const std::size_t at = static_cast<std::size_t>(iv) +
                                                static_cast<std::size_t>(volume.dims[0]) *
                                                    (j + static_cast<std::size_t>(volume.dims[1]) * (k - k0));
@@ -730,7 +723,7 @@ std::string colonTruthJson(const ColonPhantomSpec& spec, const ColonPhantom& pha
     truth["centreline_end"] = "rectum";
     truth["centreline_order"] = "caecum_to_rectum";
     // The grid is the patient frame (identity orientation): anterior is -y, the first pose's up.
-    truth["anterior"] = vec(glm::transpose(phantom.volume.directionLps) * glm::dvec3(0.0, -1.0, 0.0));
+    truth["anterior"] = vec(volumeDirectionFromPatient(phantom.volume, glm::dvec3(0.0, -1.0, 0.0)));
     truth["shape_seed"] = spec.shapeSeed;
     if (spec.hasBody) {
         truth["body"] = {{"shape", "elliptic cylinder along z, air outside"},

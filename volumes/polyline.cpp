@@ -1,6 +1,16 @@
 #include "volumes/polyline.h"
 
+#include <algorithm>
+
 namespace volumes {
+
+double distanceToSegmentMm(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, double* t) {
+    const glm::dvec3 ab = b - a;
+    const double length2 = glm::dot(ab, ab);
+    const double along = length2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / length2, 0.0, 1.0) : 0.0;
+    if (t) *t = along;
+    return glm::length(p - (a + along * ab));
+}
 
 double polylineLength(const std::vector<glm::dvec3>& points) {
     double length = 0.0;

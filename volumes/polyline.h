@@ -8,6 +8,10 @@
 
 namespace volumes {
 
+/// Distance from p to the segment a-b; `t` (if given) gets the nearest point's parameter, 0 at
+/// a and 1 at b.
+double distanceToSegmentMm(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, double* t = nullptr);
+
 /// The sum of the segment lengths.
 double polylineLength(const std::vector<glm::dvec3>& points);
 

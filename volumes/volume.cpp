@@ -51,4 +51,12 @@ void validateGeometry(const Volume& volume, const std::string& source) {
     }
 }
 
+glm::dvec3 patientFromVolumeMm(const Volume& volume, const glm::dvec3& pointMm) {
+    return volume.originLps + volume.directionLps * pointMm;
+}
+
+glm::dvec3 volumeDirectionFromPatient(const Volume& volume, const glm::dvec3& directionLps) {
+    return glm::normalize(glm::transpose(volume.directionLps) * directionLps);
+}
+
 }  // namespace volumes

@@ -63,6 +63,14 @@ inline constexpr double kMaxSpacingMm = 100.0;
 /// more is corrupt or hostile, and is refused before anything is allocated.
 inline constexpr std::size_t kMaxVoxelCount = std::size_t{1} << 30;
 
+/// Patient LPS millimetres of a point given in volume millimetres (see Volume).
+glm::dvec3 patientFromVolumeMm(const Volume& volume, const glm::dvec3& pointMm);
+
+/// The unit vector, in volume axes, of a direction given in the patient frame (LPS): the
+/// patient's anterior is volumeDirectionFromPatient(volume, {0, -1, 0}). directionLps is
+/// orthonormal, so its transpose is its inverse.
+glm::dvec3 volumeDirectionFromPatient(const Volume& volume, const glm::dvec3& directionLps);
+
 /// Throws VolumeError naming `source` unless dims, spacing, direction and voxel count are sane.
 void validateVolume(const Volume& volume, const std::string& source);
 

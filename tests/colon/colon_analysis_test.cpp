@@ -298,8 +298,8 @@ TEST(ColonOrientation, TheOrderFollowsThePatientNotTheVoxelAxes) {
     mirrored.originLps.x = (mirrored.dims[0] - 1) * mirrored.spacingMm.x;
     const colon::ColonAnalysis a = colon::analyseColon(plain, colon::ColonSettings{});
     const colon::ColonAnalysis b = colon::analyseColon(mirrored, colon::ColonSettings{});
-    const glm::dvec3 startA = colon::patientFromVolumeMm(plain, a.segments.front().centreline.pointsMm.front());
-    const glm::dvec3 startB = colon::patientFromVolumeMm(mirrored, b.segments.front().centreline.pointsMm.front());
+    const glm::dvec3 startA = volumes::patientFromVolumeMm(plain, a.segments.front().centreline.pointsMm.front());
+    const glm::dvec3 startB = volumes::patientFromVolumeMm(mirrored, b.segments.front().centreline.pointsMm.front());
     EXPECT_LT(glm::length(startA - startB), 2.0) << "the rectal end is the same place in the patient";
     EXPECT_GT(startA.x, 0.5 * (plain.dims[0] - 1) * plain.spacingMm.x) << "the rectal end is on the patient's left";
 }
