@@ -60,9 +60,13 @@ struct Reference {
 /// The tangent-plane half-width of a view's crop: the polyp at the same relative size in each.
 double cropHalfWidth(const colon::ShapeMeasures& measures) { return 1.8 * std::sqrt(measures.areaSr / 3.14159265358979); }
 
+/// Whether a reference also makes its crop: not while searching for the eye's place, where only
+/// the polyp's pixels count.
+enum class CropChoice { Make, Skip };
+
 /// The pinhole reference from `eye`'s position at `scene`, aimed at the polyp, framing it.
 Reference renderReference(Raycaster& raycaster, const PolypCheckJob& job, const colon::PolypSurface& polyp,
-                          const ScenePose& scene, Eye eye, const RenderSettings& settings) {
+                          const ScenePose& scene, Eye eye, const RenderSettings& settings, CropChoice crop) {
     const glm::dvec3 eyeMm = wallView(job.display, WallName::Front, eye, scene, WarpMode::None).rays.eyeMm;
     const double distance = glm::length(polyp.centreMm - eyeMm);
     const double angularRadius = std::asin(std::min(1.0, (0.5 * polyp.diameterMm + 1.0) / distance));
@@ -78,7 +82,7 @@ Reference renderReference(Raycaster& raycaster, const PolypCheckJob& job, const 
     Reference reference;
     reference.gridNormal = glm::normalize(polyp.centreMm - eyeMm);
     reference.measures = colon::measurePolypShape(samples, polyp, job.toleranceMm, reference.gridNormal);
-    if (reference.measures.pixels >= 3) {
+    if (crop == CropChoice::Make && reference.measures.pixels >= 3) {
         const glm::dvec3 right = caveToVolumeRotation(scene)[0];
         reference.crop = colon::tangentPlaneCrop(samples, reference.measures.centreDirection, right,
                                                  cropHalfWidth(reference.measures), job.cropSize);
@@ -91,7 +95,7 @@ Reference renderReference(Raycaster& raycaster, const PolypCheckJob& job, const 
 bool isInFullView(Raycaster& raycaster, const PolypCheckJob& job, const colon::PolypSurface& polyp,
                   const CameraPose& pose, const RenderSettings& settings) {
     const ScenePose scene{pose.positionMm, pose.forward, pose.up, job.mmPerMetre};
-    const Reference reference = renderReference(raycaster, job, polyp, scene, Eye::Centre, settings);
+    const Reference reference = renderReference(raycaster, job, polyp, scene, Eye::Centre, settings, CropChoice::Skip);
     const double expectedRadius = 0.5 * job.referenceSize / 1.5;  // the framing puts 1.5 radii at the edge
     return reference.measures.pixels >= 0.4 * 3.14159265358979 * expectedRadius * expectedRadius;
 }
@@ -210,7 +214,9 @@ std::vector<PolypViewResult> checkPolyps(Raycaster& raycaster, const PolypCheckJ
             const CameraPose pose = poseSeeing(base, polyp.centreMm, wanted.elevationDeg, wanted.azimuthDeg);
             poses[{index, p}] = pose;
             const ScenePose scene{pose.positionMm, pose.forward, pose.up, job.mmPerMetre};
-            for (Eye eye : kEyes) references[{index, p, eye}] = renderReference(raycaster, job, polyp, scene, eye, settings);
+            for (Eye eye : kEyes) {
+                references[{index, p, eye}] = renderReference(raycaster, job, polyp, scene, eye, settings, CropChoice::Make);
+            }
             step();
         }
     }
