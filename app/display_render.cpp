@@ -84,15 +84,12 @@ RenderOptions withAutomaticPath(const RenderOptions& given) {
 }  // namespace
 
 void runDisplayRender(const RenderOptions& givenOptions) {
-    // --path auto writes its analysis into the output folder: refuse an occupied folder first.
+    // --path auto writes its analysis into the output folder: refuse an occupied folder first,
+    // by the sequence's own rule (a resumed folder is checked against its manifest later, once
+    // the poses are known).
     const bool isAutomaticPath = givenOptions.pathFile == "auto";
-    if (isAutomaticPath) {
-        const std::filesystem::path folder(givenOptions.outPath);
-        const bool isOccupied = std::filesystem::exists(folder) && !std::filesystem::is_empty(folder);
-        if (isOccupied && !givenOptions.force && !givenOptions.resume) {
-            throw std::runtime_error(givenOptions.outPath +
-                                     ": exists and is not empty (pass --resume to continue it or --force to replace it)");
-        }
+    if (isAutomaticPath && !givenOptions.resume) {
+        engine::checkSequenceOutput(engine::SequenceJob{}, {givenOptions.outPath, givenOptions.force, false, {}});
     }
     const RenderOptions options = isAutomaticPath ? withAutomaticPath(givenOptions) : givenOptions;
     engine::Display display = engine::loadDisplay(options.display);
