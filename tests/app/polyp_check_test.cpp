@@ -2,7 +2,9 @@
 // the conformal map at the wall, edge and ceiling poses for both eyes (aspect and circularity
 // within 3 % of the pinhole reference, the painted grid within 2 degrees), the linear baseline
 // does not, and without a map the polyps on the ceiling's directions are cut off.
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -65,6 +67,29 @@ TEST(CvcPolypCheck, ConformalKeepsPolypShapesWhereTheLinearMapLosesThem) {
                               out.string());
     EXPECT_EQ(again.exitCode, 1);
     EXPECT_NE(again.err.find("use --force"), std::string::npos) << again.err;
+}
+
+TEST(CvcPolypCheck, BadInputGetsOneClearLine) {
+    fs::create_directories(tmp("polyp_check_bad"));
+    const fs::path volume = testing_support::processTmp("polyp_check_bad.nrrd");
+    const fs::path truth = fs::path(volume).replace_extension(".json");
+    ASSERT_EQ(runCvc("phantom --size 112 --spacing 1.4 --force -o " + volume.string()).exitCode, 0);
+    const auto expectOneLine = [](const testing_support::ProgramRun& run, const std::string& words) {
+        EXPECT_EQ(run.exitCode, 1) << run.err;
+        EXPECT_NE(run.err.find("cvc: error: "), std::string::npos) << run.err;
+        EXPECT_NE(run.err.find(words), std::string::npos) << run.err;
+        EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    };
+    const std::string base = "polyp-check " + volume.string() + " -o " + tmp("polyp_check_bad/out").string();
+    expectOneLine(runCvc(base + " --truth " + tmp("polyp_check_bad/missing.json").string()), "cannot open the ground truth");
+    expectOneLine(runCvc(base + " --truth " + truth.string() + " --display cave6"), "has no map to check");
+    expectOneLine(runCvc(base + " --truth " + truth.string() + " --polyps 9 --wall-size 64x48"),
+                  "polyp 9: the ground truth lists 5 polyps");
+    expectOneLine(runCvc(base + " --truth " + truth.string() + " --wall-size big"), "big");
+    // A truth without a centreline has nowhere to stand the eye.
+    std::ofstream(tmp("polyp_check_bad/no_path.json")) << R"({"polyps": [{"kind": "sessile", "diameter_mm": 6,
+        "centre_mm": [1, 2, 3], "base_mm": [1, 2, 3], "base_normal": [0, 0, 1]}]})";
+    expectOneLine(runCvc(base + " --truth " + tmp("polyp_check_bad/no_path.json").string()), "centreline_mm");
 }
 
 }  // namespace
