@@ -40,7 +40,9 @@ std::vector<PolypSurface> readPolypTruth(const std::string& path) {
         const std::string where = path + ": polyp " + std::to_string(polyps.size());
         if (!entry.is_object()) throw ColonError(where + " is not an object");
         PolypSurface polyp;
-        const std::string kind = entry.value("kind", std::string{});
+        // Checked as a string first: nlohmann's value() throws its own type_error for another type.
+        const auto kindField = entry.find("kind");
+        const std::string kind = kindField != entry.end() && kindField->is_string() ? kindField->get<std::string>() : "";
         if (kind != "sessile" && kind != "pedunculated") throw ColonError(where + ": \"kind\" must be sessile or pedunculated");
         polyp.isSessile = kind == "sessile";
         if (!entry.contains("diameter_mm") || !entry["diameter_mm"].is_number() || !(entry["diameter_mm"].get<double>() > 0.0)) {

@@ -3,9 +3,11 @@
 // non-conformal map) has the stretch as its aspect and 2ab / (a^2 + b^2) as its circularity and
 // skews the grid by the known angle; through a rotation and scale (conformal) nothing changes.
 #include <cmath>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
+#include "colon/colon_error.h"
 #include "colon/polyp_shape.h"
 
 namespace {
@@ -111,6 +113,18 @@ TEST(PolypShape, OnlyThePolypsOwnSurfaceCounts) {
     EXPECT_FALSE(colon::isOnPolyp(sessile, glm::dvec3(6.0, 0.0, 0.0), 0.1));         // the wall beside it
     const auto none = colon::measurePolypShape({}, sessile, 0.1, kGridNormal);
     EXPECT_EQ(none.pixels, 0);
+}
+
+TEST(PolypTruth, MalformedPolypsAreRefusedWithColonErrors) {
+    // Found by fuzzing: a "kind" that is not a string threw the JSON library's own type_error.
+    const std::string path = std::string(CVC_TEST_TMP_DIR) + "/polyp_truth_kind.json";
+    for (const char* text : {R"({"polyps": [{"kind": ["sessile"], "base_normal": [0, 0, 1]}]})",
+                             R"({"polyps": [{"kind": "sessile", "diameter_mm": "6"}]})",
+                             R"({"polyps": [{"kind": "sessile", "diameter_mm": 6, "centre_mm": [1, 2]}]})",
+                             R"({"polyps": 3})", "not json"}) {
+        std::ofstream(path, std::ios::trunc) << text;
+        EXPECT_THROW(colon::readPolypTruth(path), colon::ColonError) << text;
+    }
 }
 
 }  // namespace
