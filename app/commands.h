@@ -16,5 +16,6 @@ void addColonCommand(CLI::App& program);
 void addPolypCheckCommand(CLI::App& program);
 void addInsertPolypCommand(CLI::App& program);
 void addMeasureCommand(CLI::App& program);
+void addCoverageCommand(CLI::App& program);
 
 }  // namespace app

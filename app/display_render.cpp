@@ -21,6 +21,7 @@
 #include "engine/display/display_json.h"
 #include "engine/display/display_map.h"
 #include "engine/display/frame_sequence.h"
+#include "engine/display/review_page.h"
 #include "engine/render/volume_texture.h"
 #include "volumes/load_volume.h"
 
@@ -154,6 +155,8 @@ void runDisplayRender(const RenderOptions& givenOptions) {
         throw;
     }
     if (progress) progress->finish();
+    // After the sequence, so that a resumed run's page covers the frames kept and the new ones.
+    engine::writeReviewPage(options.outPath, engine::reviewPageOfSequence(job, &loaded.volume));
     const int images = summary.framesRendered * 2 * static_cast<int>(display.walls.size());
     std::cout << "rendered " << summary.framesRendered << " frame(s) (" << images << " wall images) on "
               << context.driverDescription() << " in " << summary.seconds << " s";
@@ -162,7 +165,8 @@ void runDisplayRender(const RenderOptions& givenOptions) {
                   << summary.rayCastingMs / summary.framesRendered << " ms of device time per stereo frame)";
     }
     if (summary.framesKept > 0) std::cout << "; kept " << summary.framesKept << " finished frame(s)";
-    std::cout << "\nwrote " << options.outPath << '\n';
+    std::cout << "\nwrote " << options.outPath << " (review page: "
+              << (std::filesystem::path(options.outPath) / "index.html").string() << ")\n";
 }
 
 }  // namespace app

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     app::addPolypCheckCommand(program);
     app::addInsertPolypCommand(program);
     app::addMeasureCommand(program);
+    app::addCoverageCommand(program);
 
     try {
         program.parse(argc, argv);

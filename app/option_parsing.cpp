@@ -1,5 +1,6 @@
 #include "app/option_parsing.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -48,6 +49,16 @@ void requireWritableOutput(const std::string& path, bool force) {
     }
     if (access(parent.c_str(), W_OK) != 0) {
         throw std::runtime_error(path + ": output folder " + parent.string() + " is not writable");
+    }
+}
+
+void resizeWalls(engine::Display& display, const std::string& size) {
+    const int width = parseImageSize(size).first;
+    const double perMetre = width / display.boxSizeM.x;
+    for (engine::DisplayWall& wall : display.walls) {
+        const engine::WallRectangle rect = engine::wallRectangle(display, wall.name);
+        wall.width = std::max(1, static_cast<int>(std::lround(glm::length(rect.widthM) * perMetre)));
+        wall.height = std::max(1, static_cast<int>(std::lround(glm::length(rect.heightM) * perMetre)));
     }
 }
 

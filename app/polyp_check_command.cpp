@@ -53,19 +53,6 @@ struct PolypCheckOptions {
     bool force = false;
 };
 
-/// Walls of `display` resized to `width` pixels across its front, the same pixel density on
-/// every wall (the floor and back keep their proportions).
-void resizeWalls(engine::Display& display, const std::string& size) {
-    const auto [width, height] = parseImageSize(size);
-    const double perMetre = width / display.boxSizeM.x;
-    for (engine::DisplayWall& wall : display.walls) {
-        const engine::WallRectangle rect = engine::wallRectangle(display, wall.name);
-        wall.width = std::max(1, static_cast<int>(std::lround(glm::length(rect.widthM) * perMetre)));
-        wall.height = std::max(1, static_cast<int>(std::lround(glm::length(rect.heightM) * perMetre)));
-    }
-    (void)height;  // the height follows from the box's proportions, as the display's own walls do
-}
-
 nlohmann::json numberOrNull(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
 
 std::string mapName(conformal::MapKind kind) { return conformal::mapKindName(kind); }

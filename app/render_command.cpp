@@ -146,7 +146,7 @@ void addRenderCommand(CLI::App& program) {
         ->capture_default_str()->group(camera);
 
     auto* display = "Display";
-    command->add_option("--display", options->display, "ic5, cave6, cave4 or a display JSON file")->group(display);
+    command->add_option("--display", options->display, "ic5, ic6, cave6, cave4, forward or a display JSON file")->group(display);
     command->add_option("--map", options->map, "Override the display's map: conformal, linear, none")
         ->check(CLI::IsMember({"conformal", "linear", "none"}))->group(display);
     command->add_option("--map-size", options->mapSize, "Cube-map texels per face edge (ignored with --cube-map)")

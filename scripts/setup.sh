@@ -17,6 +17,7 @@ packages=(
   libgdcm-dev libgdcm-tools libnifti2-dev
   libgtest-dev googletest
   clang libclang-rt-14-dev
+  chromium chromium-driver python3-selenium  # the review page's test in a headless browser
 )
 
 sudo=""

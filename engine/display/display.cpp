@@ -38,7 +38,7 @@ WallName wallNameFromText(const std::string& text) {
     throw std::invalid_argument("unknown wall '" + text + "' (front, back, left, right, floor, ceiling)");
 }
 
-std::vector<std::string> displayPresetNames() { return {"ic5", "cave6", "cave4"}; }
+std::vector<std::string> displayPresetNames() { return {"ic5", "ic6", "cave6", "cave4", "forward"}; }
 
 Display displayPreset(const std::string& name) {
     Display display;
@@ -51,6 +51,20 @@ Display displayPreset(const std::string& name) {
         display.walls = {{WallName::Front, 1400, 1050}, {WallName::Back, 1400, 1050}, {WallName::Left, 1400, 1050},
                          {WallName::Right, 1400, 1050}, {WallName::Floor, 1050, 1050}};
         display.map = conformal::MapKind::Conformal;
+    } else if (name == "ic6") {
+        // The cabin's box with its ceiling: the upper bound of what the cabin could show. The
+        // ceiling has the floor's pixel size, so every wall keeps ic5's pixel density.
+        display = displayPreset("ic5");
+        display.name = name;
+        display.walls.push_back({WallName::Ceiling, 1050, 1050});
+        display.map = conformal::MapKind::None;
+    } else if (name == "forward") {
+        // The usual virtual endoscope: one screen straight ahead, 90 degrees across both ways
+        // (the front wall of a cube seen from its centre), at ic5's front-wall pixel density.
+        const double side = conformal::immersiveCabinBox().size.x;
+        display.boxSizeM = glm::dvec3(side);
+        display.walls = {{WallName::Front, 1400, 1400}};
+        display.map = conformal::MapKind::None;
     } else if (name == "cave6") {
         display.boxSizeM = glm::dvec3(2.4);
         for (WallName wall : {WallName::Front, WallName::Back, WallName::Left, WallName::Right, WallName::Floor,

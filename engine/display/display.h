@@ -44,8 +44,11 @@ struct Display {
 };
 
 /// The presets: "ic5" (the 5-wall Immersive Cabin, no ceiling, 1400x1050 walls and a
-/// 1050x1050 floor, conformal map: the default), "cave6" (a 2.4 m cube, all six walls at
-/// 1024^2, no map), "cave4" (front, left, right, floor of a 2.4 m cube: two walls missing).
+/// 1050x1050 floor, conformal map: the default), "ic6" (the cabin with a 1050x1050 ceiling, no
+/// map: what the cabin would show with every wall), "cave6" (a 2.4 m cube, all six walls at
+/// 1024^2, no map), "cave4" (front, left, right, floor of a 2.4 m cube: two walls missing),
+/// "forward" (one 1400x1400 screen filling 90 degrees straight ahead, no map: the usual virtual
+/// endoscope).
 std::vector<std::string> displayPresetNames();
 Display displayPreset(const std::string& name);
 

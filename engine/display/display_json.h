@@ -7,7 +7,7 @@
 
 namespace engine {
 
-/// A preset name ("ic5", "cave6", "cave4") or the path of a JSON file such as
+/// A preset name ("ic5", "ic6", "cave6", "cave4", "forward") or the path of a JSON file such as
 ///   {"name": "lab", "box_size_m": [3, 2.4, 3], "map": "conformal", "map_centre_m": [0, 0, 0],
 ///    "eye_separation_m": 0.065, "head_position_m": [0, 0, 0], "near_m": 0.05,
 ///    "walls": [{"name": "front", "width": 1400, "height": 1050}, ...]}

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/display/display_json.h"
+#include "engine/display/review_page.h"
 #include "engine/display/review_sheet.h"
 #include "engine/output/hit_image_writer.h"
 #include "engine/output/png_writer.h"
@@ -44,9 +45,16 @@ nlohmann::json comparablePart(const std::string& manifest) {
     return document;
 }
 
+/// The manifest, the frames (finished and partial) and the review page that the caller writes
+/// beside them (review_page.h): what --force may remove.
 bool isOurEntry(const fs::path& entry) {
     const std::string name = entry.filename().string();
-    return name == "render.json" || name.rfind("frame_", 0) == 0 || name.rfind(".frame_", 0) == 0;
+    const std::vector<std::string> page = reviewPageFileNames();
+    const bool isPageFile = std::find(page.begin(), page.end(), name) != page.end() ||
+                            std::any_of(page.begin(), page.end(), [&](const std::string& file) {
+                                return name == "." + file + ".partial";
+                            });
+    return name == "render.json" || name.rfind("frame_", 0) == 0 || name.rfind(".frame_", 0) == 0 || isPageFile;
 }
 
 /// Removes our earlier output (only ours) when forced, and writes the manifest.

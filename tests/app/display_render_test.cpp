@@ -53,6 +53,11 @@ TEST(DisplayRender, WritesEveryWallForBothEyesAndASheetPerFrame) {
         }
     }
     EXPECT_FALSE(fs::exists(out / "frame_0003"));
+    // The review page beside the frames (tests/app/review_page_test.py opens it in a browser).
+    for (const char* file : {"index.html", "review_data.js", "review_volume.js", "review_page.js", "review_page.css"}) {
+        EXPECT_TRUE(fs::exists(out / file)) << file;
+    }
+    EXPECT_NE(run.out.find("review page: " + (out / "index.html").string()), std::string::npos) << run.out;
     // Progress goes to stderr, one line per frame when it is not a terminal.
     EXPECT_NE(run.err.find("frames 3/3"), std::string::npos) << run.err;
 }
@@ -81,18 +86,27 @@ TEST(DisplayRender, ResumeRendersOnlyWhatIsMissingAndForceIsNeededToReplace) {
     EXPECT_TRUE(fs::exists(out / "frame_0001" / "right" / "floor.png"));
     EXPECT_FALSE(fs::exists(out / ".frame_0001.partial"));
     EXPECT_EQ(fs::last_write_time(out / "frame_0000" / "sheet.png"), keptTime);
+    // The page rewritten at the end lists the kept frames and the new one.
+    const std::string pageData = testing_support::readWholeFile(out / "review_data.js");
+    for (const char* frame : {"frame_0000/sheet.png", "frame_0001/sheet.png", "frame_0002/sheet.png"}) {
+        EXPECT_NE(pageData.find(frame), std::string::npos) << frame;
+    }
 
     // Resuming with other settings would mix two renders: refused.
     const auto changed = runCvc(scene.command(out, "--resume --light-distance 10"));
     EXPECT_NE(changed.exitCode, 0);
     EXPECT_NE(changed.err.find("other inputs or settings"), std::string::npos) << changed.err;
 
-    // --force replaces our output and leaves the user's own files alone.
+    // --force replaces our output (a page file half written by an interrupted run included) and
+    // leaves the user's own files alone.
     std::ofstream(out / "notes.txt") << "mine";
+    std::ofstream(out / ".index.html.partial") << "<html";
     const auto forced = runCvc(scene.command(out, "--force"));
     ASSERT_EQ(forced.exitCode, 0) << forced.err;
     EXPECT_NE(forced.out.find("rendered 3 frame(s)"), std::string::npos) << forced.out;
     EXPECT_TRUE(fs::exists(out / "notes.txt"));
+    EXPECT_FALSE(fs::exists(out / ".index.html.partial"));
+    EXPECT_TRUE(fs::exists(out / "index.html"));
 }
 
 TEST(DisplayRender, ConformalDisplayWritesTheBeforeAfterSheet) {
