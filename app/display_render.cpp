@@ -11,7 +11,10 @@
 
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include "app/colon_command.h"
+#include "app/mpi_session.h"
 #include "app/option_parsing.h"
 #include "app/progress_bar.h"
 #include "app/render_options.h"
@@ -82,9 +85,39 @@ RenderOptions withAutomaticPath(const RenderOptions& given) {
     return options;
 }
 
-}  // namespace
+/// What rank 0 read and worked out for every rank: the volume to render (the cleansed one after
+/// --path auto), the display and the poses.
+struct SharedRequest {
+    std::string volumePath;
+    engine::Display display;
+    std::vector<engine::CameraPose> poses;
+};
 
-void runDisplayRender(const RenderOptions& givenOptions) {
+std::string requestText(const SharedRequest& request) {
+    nlohmann::json poses = nlohmann::json::array();
+    for (const auto& pose : request.poses) {
+        poses.push_back({pose.positionMm.x, pose.positionMm.y, pose.positionMm.z, pose.forward.x, pose.forward.y,
+                         pose.forward.z, pose.up.x, pose.up.y, pose.up.z});
+    }
+    return nlohmann::json{{"volume", request.volumePath},
+                          {"display", engine::displayJson(request.display)},
+                          {"poses", poses}}
+        .dump();
+}
+
+SharedRequest requestFromText(const std::string& text) {
+    const nlohmann::json document = nlohmann::json::parse(text);
+    SharedRequest request;
+    request.volumePath = document.at("volume").get<std::string>();
+    request.display = engine::displayFromJsonText(document.at("display").get<std::string>());
+    for (const auto& p : document.at("poses")) {
+        request.poses.push_back({{p[0], p[1], p[2]}, {p[3], p[4], p[5]}, {p[6], p[7], p[8]}});
+    }
+    return request;
+}
+
+/// Rank 0's reading of the request (every rank of one process).
+SharedRequest readRequest(const RenderOptions& givenOptions, RenderOptions& options) {
     // --path auto writes its analysis into the output folder: refuse an occupied folder first,
     // by the sequence's own rule (a resumed folder is checked against its manifest later, once
     // the poses are known).
@@ -92,10 +125,32 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     if (isAutomaticPath && !givenOptions.resume) {
         engine::checkSequenceOutput(engine::SequenceJob{}, {givenOptions.outPath, givenOptions.force, false, {}});
     }
-    const RenderOptions options = isAutomaticPath ? withAutomaticPath(givenOptions) : givenOptions;
-    engine::Display display = engine::loadDisplay(options.display);
-    if (!options.map.empty()) display.map = conformal::mapKindFromName(options.map);
-    engine::validateDisplay(display);
+    options = isAutomaticPath ? withAutomaticPath(givenOptions) : givenOptions;
+    SharedRequest request;
+    request.volumePath = options.volumePath;
+    request.display = engine::loadDisplay(options.display);
+    if (!options.map.empty()) request.display.map = conformal::mapKindFromName(options.map);
+    engine::validateDisplay(request.display);
+    request.poses = posesFrom(options);
+    return request;
+}
+
+}  // namespace
+
+void runDisplayRender(const RenderOptions& givenOptions) {
+    // Under mpirun rank 0 alone reads the display and the path (and runs the colon analysis for
+    // --path auto); every rank gets what it found.
+    const MpiSession& mpi = mpiSession();
+    RenderOptions options = givenOptions;
+    SharedRequest request;
+    if (mpi.rank() == 0) request = readRequest(givenOptions, options);
+    if (mpi.isShared()) {
+        request = requestFromText(mpi.broadcast(mpi.rank() == 0 ? requestText(request) : std::string()));
+        options.volumePath = request.volumePath;
+        if (options.volumePath != givenOptions.volumePath) options.rawSpec.clear();  // the cleansed NRRD
+    }
+    const bool isAutomaticPath = givenOptions.pathFile == "auto";
+    const engine::Display& display = request.display;
     if (!(options.mmPerMetre > 0.0 && options.mmPerMetre <= 1000.0)) {
         throw std::invalid_argument("--scale must be in (0, 1000] mm per metre");
     }
@@ -104,7 +159,7 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     engine::SequenceJob job;
     job.volumePath = options.volumePath;
     job.display = display;
-    job.poses = posesFrom(options);
+    job.poses = request.poses;
     job.mmPerMetre = options.mmPerMetre;
     job.settings = renderSettingsFrom(options, true);
     job.warpMode = options.warp == "exact" ? engine::WarpMode::Exact : engine::WarpMode::Chord;
@@ -127,17 +182,24 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     engine::VolumeTexture texture(context, loaded.volume);
     engine::Raycaster raycaster(context, loaded.volume, texture, loaded.bricks);
     // A --cube-map for a display without a map goes to cubeMapFor too, which refuses it: never ignored.
-    if (display.map != conformal::MapKind::None || !options.cubeMapFile.empty()) {
+    // Rank 0 bakes (or finds) the map first; the others then load it from the cache it filled.
+    const bool hasMap = display.map != conformal::MapKind::None || !options.cubeMapFile.empty();
+    const auto loadMap = [&] {
         conformal::BakeReport report;
         const conformal::CubeMap map = engine::cubeMapFor(display, options.mapSize, options.cubeMapFile, &report);
         const std::string origin = !options.cubeMapFile.empty() ? "from " + options.cubeMapFile
                                    : report.wasLoadedFromCache
                                        ? "loaded from " + report.cachePath.string()
                                        : "computed in " + std::to_string(report.mapSeconds + report.bakeSeconds) + " s";
-        std::cerr << "map: " << conformal::mapKindName(map.kind) << ", " << map.size << "^2 per face, " << origin
-                  << '\n';
+        if (mpi.rank() == 0) {
+            std::cerr << "map: " << conformal::mapKindName(map.kind) << ", " << map.size << "^2 per face, " << origin
+                      << '\n';
+        }
         raycaster.setCubeMap(map.size, map.rgba);
-    }
+    };
+    if (hasMap && mpi.rank() == 0) loadMap();
+    mpi.barrier();
+    if (hasMap && mpi.rank() != 0) loadMap();
 
     InterruptGuard interruptGuard;
     std::optional<ProgressBar> progress;  // made at the first report, which says how many frames were kept
@@ -147,24 +209,37 @@ void runDisplayRender(const RenderOptions& givenOptions) {
         if (!progress) progress.emplace(std::cerr, total, done, isatty(fileno(stderr)) != 0);
         progress->update(done);
     };
+    engine::SequenceShare share;
+    share.rank = mpi.rank();
+    share.ranks = mpi.ranks();
+    share.distribution = options.distribution == "walls" ? engine::Distribution::Walls : engine::Distribution::Frames;
+    share.barrier = [&mpi] { mpi.barrier(); };
     engine::SequenceSummary summary;
     try {
-        summary = engine::renderSequence(raycaster, job, output, hooks);
+        summary = engine::renderSequence(raycaster, job, output, hooks, share);
     } catch (...) {
         if (progress) progress->finish();
         throw;
     }
     if (progress) progress->finish();
+    if (mpi.rank() != 0) return;  // rank 0 writes the page and speaks for the job
     // After the sequence, so that a resumed run's page covers the frames kept and the new ones.
     engine::writeReviewPage(options.outPath, engine::reviewPageOfSequence(job, &loaded.volume));
     const int images = summary.framesRendered * 2 * static_cast<int>(display.walls.size());
     std::cout << "rendered " << summary.framesRendered << " frame(s) (" << images << " wall images) on "
-              << context.driverDescription() << " in " << summary.seconds << " s";
+              << context.driverDescription();
+    if (mpi.isShared()) std::cout << " x " << mpi.ranks() << " ranks (" << options.distribution << ")";
+    std::cout << " in " << summary.seconds << " s";
     if (summary.framesRendered > 0) {
         std::cout << ", " << summary.seconds / summary.framesRendered << " s per frame (ray casting "
                   << summary.rayCastingMs / summary.framesRendered << " ms of device time per stereo frame)";
     }
     if (summary.framesKept > 0) std::cout << "; kept " << summary.framesKept << " finished frame(s)";
+    if (!summary.framesLeftHalfWritten.empty()) {
+        std::cout << "; the run that stopped was writing frame(s)";
+        for (int index : summary.framesLeftHalfWritten) std::cout << ' ' << index;
+        std::cout << ", rendered again";
+    }
     std::cout << "\nwrote " << options.outPath << " (review page: "
               << (std::filesystem::path(options.outPath) / "index.html").string() << ")\n";
 }

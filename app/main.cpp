@@ -2,13 +2,17 @@
 /// and turns any error into one line on stderr and a non-zero exit.
 #include <exception>
 #include <iostream>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "app/mpi_session.h"
 #include "engine/display/frame_sequence.h"
 
 int main(int argc, char** argv) {
+    // Under mpirun, MPI starts before anything else (and sets lavapipe's threads per rank).
+    const app::MpiSession mpi(&argc, &argv);
     CLI::App program{"conformal-vc: virtual colonoscopy rendering for partially-immersive displays"};
     program.require_subcommand(1);
     program.set_version_flag("--version", "conformal-vc 0.1.0");
@@ -24,13 +28,25 @@ int main(int argc, char** argv) {
     app::addCoverageCommand(program);
 
     try {
+        // Only the display render shares its work between ranks; any other command would run
+        // the same job N times over the same files.
+        if (mpi.isShared() && (argc < 2 || std::string(argv[1]) != "render")) {
+            throw std::invalid_argument("under mpirun only `cvc render --display` shares its work between ranks; run "
+                                        "other commands as one process");
+        }
         program.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return program.exit(e);
     } catch (const engine::SequenceCancelled&) {
         std::cerr << "cvc: interrupted; the finished frames are kept (continue with --resume)\n";
+        if (mpi.isShared()) mpi.abort(130);
         return 130;
     } catch (const std::exception& e) {
+        // One rank's error stops the whole job: the others would wait for it for ever.
+        if (mpi.isShared()) {
+            std::cerr << "cvc: error on rank " << mpi.rank() << " of " << mpi.ranks() << ": " << e.what() << '\n';
+            mpi.abort(1);
+        }
         std::cerr << "cvc: error: " << e.what() << '\n';
         return 1;
     }

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "app/mpi_session.h"
 #include "app/option_parsing.h"
 #include "app/render_options.h"
 #include "engine/core/gpu_context.h"
@@ -171,6 +172,10 @@ void addRenderCommand(CLI::App& program) {
         ->capture_default_str()->group(display);
     command->add_flag("--retrograde", options->isRetrograde, "Fly caecum -> rectum (default: antegrade, rectum -> caecum)")->group(display);
     command->add_option("--frames", options->maxFrames, "Render at most this many frames of the path")->group(display);
+    command->add_option("--distribute", options->distribution,
+                        "Under mpirun: frames (each rank renders whole frames) or walls (each rank renders fixed "
+                        "walls of every frame, the cabin cluster's layout)")
+        ->check(CLI::IsMember({"frames", "walls"}))->capture_default_str()->group(display);
     command->add_option("--polyp", options->polyp,
                         "One pose on the path from which polyp N of its ground truth is seen ahead and above")
         ->group(display);
@@ -221,6 +226,9 @@ void addRenderCommand(CLI::App& program) {
                 throw std::invalid_argument("--cube-map is for display renders (--display)");
             }
             if (options->outPath.empty()) options->outPath = "render.png";
+            if (mpiSession().isShared()) {
+                throw std::invalid_argument("a pinhole view is one image: under mpirun give --display to share frames");
+            }
             runPinholeRender(*options);
         } else {
             if (!options->hitsPath.empty()) {

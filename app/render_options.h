@@ -40,6 +40,8 @@ struct RenderOptions {
     double smoothingMm = 8.0;
     bool isRetrograde = false;
     int maxFrames = 0;  // 0: all
+    // Several processes (mpirun): how the frames x eyes x walls are split
+    std::string distribution = "frames";
     int polyp = -1;     // >= 0: one pose viewing this polyp of the path's ground truth
     double polypElevationDeg = 60.0;  // ... seen ahead at this elevation (on the IC's ceiling)
     // Rendering

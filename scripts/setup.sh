@@ -18,6 +18,7 @@ packages=(
   libgtest-dev googletest
   clang libclang-rt-14-dev
   chromium chromium-driver python3-selenium  # the review page's test in a headless browser
+  libopenmpi-dev openmpi-bin                 # mpirun -np N cvc render ... (and its tests)
 )
 
 sudo=""

@@ -86,6 +86,17 @@ Display loadDisplay(const std::string& presetOrPath) {
     return display;
 }
 
+Display displayFromJsonText(const std::string& text) {
+    Display display;
+    try {
+        display = displayFromJson(json::parse(text));
+        validateDisplay(display);
+    } catch (const std::exception& e) {
+        throw std::runtime_error(std::string("display JSON: ") + e.what());
+    }
+    return display;
+}
+
 std::string displayJson(const Display& display) {
     json document;
     document["name"] = display.name;

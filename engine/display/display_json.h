@@ -15,6 +15,9 @@ namespace engine {
 /// field for unreadable files, wrong types and unknown names; the result is validated.
 Display loadDisplay(const std::string& presetOrPath);
 
+/// The display that JSON text in loadDisplay's format describes (what displayJson wrote), validated.
+Display displayFromJsonText(const std::string& text);
+
 /// The JSON text of `display` in the format loadDisplay reads.
 std::string displayJson(const Display& display);
 

@@ -21,6 +21,7 @@
 #include "engine/display/review_page.h"
 #include "engine/display/review_sheet.h"
 #include "engine/output/hit_image_writer.h"
+#include "engine/output/png_reader.h"
 #include "engine/output/png_writer.h"
 
 namespace engine {
@@ -162,21 +163,38 @@ void runParallel(std::vector<std::function<void()>>& tasks, unsigned threads) {
     if (failure) std::rethrow_exception(failure);
 }
 
+/// Which of a frame's stereo images (eye after eye, walls in the display's order) a rank
+/// renders and writes.
+std::vector<bool> imagesOfRank(const SequenceShare& share, std::size_t wallCount) {
+    std::vector<bool> mine(2 * wallCount, true);
+    if (share.ranks > 1 && share.distribution == Distribution::Walls) {
+        for (std::size_t i = 0; i < mine.size(); ++i) {
+            mine[i] = static_cast<int>((i % wallCount) % static_cast<std::size_t>(share.ranks)) == share.rank;
+        }
+    }
+    return mine;
+}
+
 /// Writes a collected frame into its hidden folder (images encoded on worker threads), then
-/// renames the folder into place.
+/// renames the folder into place. Under the walls distribution a rank writes only its walls
+/// (write(frame, false)), and rank 0 finishes the frame once all are written (finish).
 class FrameWriter {
 public:
-    FrameWriter(const SequenceJob& job, const fs::path& folder, const SequenceHooks& hooks)
-        : mJob(job), mFolder(folder), mHooks(hooks), mReduction(sheetReduction(job.display, 1000)),
+    FrameWriter(const SequenceJob& job, const fs::path& folder, const SequenceHooks& hooks, std::vector<bool> mine)
+        : mJob(job), mFolder(folder), mHooks(hooks), mMine(std::move(mine)), mReduction(sheetReduction(job.display, 1000)),
           mSheetDisplay(scaledDisplay(job.display, mReduction)),
           mThreads(std::max(1u, std::thread::hardware_concurrency())) {}
 
-    void write(FrameInFlight& frame) {
+    /// The frame's images (this rank's), and with `isWhole` its sheet and its move into place.
+    void write(FrameInFlight& frame, bool isWhole) {
         const fs::path partial = mFolder / partialFolderName(frame.index);
-        fs::remove_all(partial);
+        if (isWhole) fs::remove_all(partial);  // shared frames: rank 0 cleared it before any rank began
         try {
-            writeInto(frame, partial);
-            fs::rename(partial, mFolder / frameFolderName(frame.index));
+            std::vector<RgbaImage> reduced = writeImages(frame, partial);
+            if (isWhole) {
+                writeSheet(partial, std::move(reduced));
+                fs::rename(partial, mFolder / frameFolderName(frame.index));
+            }
         } catch (...) {
             std::error_code ignored;
             fs::remove_all(partial, ignored);
@@ -184,16 +202,38 @@ public:
         }
     }
 
+    /// Rank 0 under the walls distribution, once every rank wrote its walls of frame `index`:
+    /// the sheet from the files, and the frame into place.
+    void finish(int index) {
+        const fs::path partial = mFolder / partialFolderName(index);
+        const auto& walls = mJob.display.walls;
+        std::vector<RgbaImage> reduced(2 * walls.size());
+        std::vector<std::function<void()>> tasks;
+        for (std::size_t i = 0; i < reduced.size(); ++i) {
+            tasks.emplace_back([&, i] {
+                const fs::path file = partial / eyeText(kStereoEyes[i / walls.size()]) /
+                                      (wallNameText(walls[i % walls.size()].name) + ".png");
+                reduced[i] = downsampled(readPng(file.string()), mReduction);
+            });
+        }
+        runParallel(tasks, mThreads);
+        writeSheet(partial, std::move(reduced));
+        fs::rename(partial, mFolder / frameFolderName(index));
+    }
+
 private:
-    void writeInto(FrameInFlight& frame, const fs::path& partial) {
+    /// This rank's full-size walls to PNG (and hits), each also reduced for the sheet, in
+    /// parallel, and the before/after sheet where it was rendered. Returns the reduced walls
+    /// (empty images for other ranks' walls).
+    std::vector<RgbaImage> writeImages(FrameInFlight& frame, const fs::path& partial) {
         const auto& walls = mJob.display.walls;
         const std::size_t wallCount = walls.size();
         for (Eye eye : kStereoEyes) fs::create_directories(partial / eyeText(eye));
 
-        // Full-size walls to PNG (and hits), each also reduced for the sheet, in parallel.
         std::vector<RgbaImage> reduced(2 * wallCount);
         std::vector<std::function<void()>> tasks;
         for (std::size_t i = 0; i < 2 * wallCount; ++i) {
+            if (!mMine[i]) continue;
             tasks.emplace_back([&, i] {
                 throwIfCancelled(mHooks);
                 const fs::path eyeFolder = partial / eyeText(kStereoEyes[i / wallCount]);
@@ -224,8 +264,13 @@ private:
         }
         runParallel(tasks, mThreads);
         throwIfCancelled(mHooks);
+        return reduced;
+    }
 
-        // The review sheet: left eye, right eye, anaglyph.
+    /// The review sheet: left eye, right eye, anaglyph.
+    void writeSheet(const fs::path& partial, std::vector<RgbaImage> reduced) {
+        const auto& walls = mJob.display.walls;
+        const std::size_t wallCount = walls.size();
         std::map<Eye, std::map<WallName, RgbaImage>> sheetWalls;
         for (std::size_t i = 0; i < 2 * wallCount; ++i) {
             sheetWalls[kStereoEyes[i / wallCount]][walls[i % wallCount].name] = std::move(reduced[i]);
@@ -244,6 +289,7 @@ private:
     const SequenceJob& mJob;
     fs::path mFolder;
     const SequenceHooks& mHooks;
+    std::vector<bool> mMine;
     int mReduction;
     Display mSheetDisplay;  // the display's walls at the sheets' reduced size
     unsigned mThreads;
@@ -335,35 +381,71 @@ std::string sequenceManifest(const SequenceJob& job) {
 }
 
 SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, const SequenceOutput& output,
-                               const SequenceHooks& hooks) {
+                               const SequenceHooks& hooks, const SequenceShare& share) {
     validateDisplay(job.display);
+    if (share.ranks < 1 || share.rank < 0 || share.rank >= share.ranks || (share.ranks > 1 && !share.barrier)) {
+        throw std::invalid_argument("sequence share: rank " + std::to_string(share.rank) + " of " +
+                                    std::to_string(share.ranks) + " (a shared sequence needs a barrier)");
+    }
+    const bool isShared = share.ranks > 1;
+    const bool isSharingWalls = isShared && share.distribution == Distribution::Walls;
+    const auto barrier = [&] {
+        if (isShared) share.barrier();
+    };
     checkSequenceOutput(job, output);
-    prepareFolder(sequenceManifest(job), output);
+    barrier();  // every rank checked the folder before rank 0 changes it
     const fs::path folder(output.folder);
-    const auto start = std::chrono::steady_clock::now();
-
     const int total = static_cast<int>(job.poses.size());
     std::vector<int> pending;
+    if (share.rank == 0) prepareFolder(sequenceManifest(job), output);
+    barrier();  // the folder is ready, and every rank sees the same finished frames
     for (int i = 0; i < total; ++i) {
         if (!fs::is_directory(folder / frameFolderName(i))) pending.push_back(i);
     }
     SequenceSummary summary;
+    for (int index : pending) {
+        if (fs::exists(folder / partialFolderName(index))) summary.framesLeftHalfWritten.push_back(index);
+    }
+    barrier();  // every rank looked before any clears a hidden folder
+    if (isSharingWalls && share.rank == 0) {
+        for (int index : pending) fs::remove_all(folder / partialFolderName(index));  // left by a run that stopped
+    }
+    barrier();
+    const auto start = std::chrono::steady_clock::now();
+
     summary.framesKept = total - static_cast<int>(pending.size());
-    int done = summary.framesKept;
-    if (hooks.onProgress) hooks.onProgress(done, total);
+    std::vector<int> mine;  // the frames this rank renders
+    for (std::size_t i = 0; i < pending.size(); ++i) {
+        if (isSharingWalls || static_cast<int>(i % static_cast<std::size_t>(share.ranks)) == share.rank) mine.push_back(pending[i]);
+    }
+    // Rank 0 reports the whole job: the frames finished in the folder, whoever wrote them.
+    const auto reportProgress = [&] {
+        if (share.rank != 0 || !hooks.onProgress) return;
+        int finished = 0;
+        for (int i = 0; i < total; ++i) finished += fs::is_directory(folder / frameFolderName(i)) ? 1 : 0;
+        hooks.onProgress(finished, total);
+    };
+    reportProgress();
 
     RenderSettings stereoSettings = job.settings;
     stereoSettings.isWritingHits = job.isWritingHits;
     RenderSettings sheetSettings = job.settings;
     sheetSettings.isWritingHits = false;
-    const bool isWritingBeforeAfter = job.isWritingBeforeAfter && job.display.map != conformal::MapKind::None;
+    const bool isWritingBeforeAfter =
+        job.isWritingBeforeAfter && job.display.map != conformal::MapKind::None && share.rank == 0;
     const std::size_t stereoCount = 2 * job.display.walls.size();
-    FrameWriter writer(job, folder, hooks);
+    const std::vector<bool> myImages = imagesOfRank(share, job.display.walls.size());
+    FrameWriter writer(job, folder, hooks, myImages);
 
     // The device renders frame i while the host writes frame i - 1.
     const auto submitFrame = [&](int index) {
         const ScenePose pose = scenePoseOf(job, index);
-        std::vector<RenderRequest> requests = wallRequests(job.display, pose, kStereoEyes, stereoSettings, job.warpMode);
+        const std::vector<RenderRequest> stereo =
+            wallRequests(job.display, pose, kStereoEyes, stereoSettings, job.warpMode);
+        std::vector<RenderRequest> requests;
+        for (std::size_t i = 0; i < stereo.size(); ++i) {
+            if (myImages[i]) requests.push_back(stereo[i]);
+        }
         if (isWritingBeforeAfter) {
             const Eye centre[] = {Eye::Centre};
             for (WarpMode warp : {WarpMode::None, job.warpMode}) {
@@ -377,24 +459,34 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
         return frame;
     };
     const auto collectFrame = [&](FrameInFlight& frame) {
-        frame.images = raycaster.collect(*frame.batch);
+        std::vector<RenderedImage> collected = raycaster.collect(*frame.batch);
         frame.batch.reset();
-        for (std::size_t i = 0; i < stereoCount; ++i) summary.rayCastingMs += std::max(frame.images[i].deviceMs, 0.0);
-        if (hooks.onFrame) {
+        // Back in the frame's full order (other ranks' walls left empty), before/after last.
+        frame.images.assign(stereoCount, RenderedImage{});
+        std::size_t next = 0;
+        for (std::size_t i = 0; i < stereoCount; ++i) {
+            if (!myImages[i]) continue;
+            summary.rayCastingMs += std::max(collected[next].deviceMs, 0.0);
+            frame.images[i] = std::move(collected[next++]);
+        }
+        for (; next < collected.size(); ++next) frame.images.push_back(std::move(collected[next]));
+        if (hooks.onFrame && !isSharingWalls) {
             std::vector<RenderedImage> stereo(frame.images.begin(),
                                               frame.images.begin() + static_cast<std::ptrdiff_t>(stereoCount));
             hooks.onFrame(frame.index, labelledWalls(job.display, kStereoEyes, std::move(stereo)));
         }
     };
     const auto writeFrame = [&](FrameInFlight& frame) {
-        writer.write(frame);
-        ++done;
-        ++summary.framesRendered;
-        if (hooks.onProgress) hooks.onProgress(done, total);
+        writer.write(frame, !isSharingWalls);
+        if (isSharingWalls) {
+            barrier();  // every rank's walls of this frame are written
+            if (share.rank == 0) writer.finish(frame.index);
+        }
+        reportProgress();
     };
 
     std::unique_ptr<FrameInFlight> ready;  // collected, not yet written
-    for (int index : pending) {
+    for (int index : mine) {
         throwIfCancelled(hooks);
         auto next = std::make_unique<FrameInFlight>(submitFrame(index));
         if (ready) writeFrame(*ready);
@@ -402,6 +494,9 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
         ready = std::move(next);
     }
     if (ready) writeFrame(*ready);
+    barrier();  // every rank's frames are in place
+    summary.framesRendered = static_cast<int>(pending.size());
+    if (isShared) reportProgress();  // the other ranks' last frames
     summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return summary;
 }

@@ -70,10 +70,32 @@ struct SequenceHooks {
     std::function<void(int frameIndex, const std::vector<WallImage>& images)> onFrame;
 };
 
+/// How the frames x eyes x walls of a sequence are split between the processes of one run (MPI
+/// ranks; the engine knows only their number, its own and how to wait for all of them).
+///  - Frames (the default): rank r renders and writes the pending frames r, r + ranks, ...
+///    whole (both eyes, every wall, the sheet).
+///  - Walls (the method's cabin cluster): rank r renders and writes wall w of every frame, both
+///    eyes, for every w with w % ranks == r; rank 0 also renders the before/after walls, and
+///    once every wall of a frame is written (a barrier) composes its sheet from the files and
+///    moves the frame into place.
+/// Either way rank 0 alone prepares the folder and writes the manifest, and the folder is byte
+/// for byte what one process writes.
+enum class Distribution { Frames, Walls };
+
+struct SequenceShare {
+    int rank = 0;
+    int ranks = 1;
+    Distribution distribution = Distribution::Frames;
+    /// Returns once every rank has called it; needed when ranks > 1.
+    std::function<void()> barrier;
+};
+
 /// What one run did, for the summary line.
 struct SequenceSummary {
-    int framesRendered = 0;
+    int framesRendered = 0;  // by all ranks together
+
     int framesKept = 0;
+    std::vector<int> framesLeftHalfWritten;  // by a run that stopped (their hidden folders): rendered again
     double seconds = 0.0;
     double rayCastingMs = 0.0;  // device time of the stereo wall images' dispatches (before/after excluded)
 };
@@ -97,8 +119,11 @@ void checkSequenceOutput(const SequenceJob& job, const SequenceOutput& output);
 /// while the device renders the next. Throws std::runtime_error when the folder holds output
 /// already and neither isForced nor isResumed is set, or when a resumed folder was made with
 /// another manifest; SequenceCancelled when the hook asked to stop.
+/// With `share` of several ranks, every rank calls it with the same job and output and each
+/// does its part (see SequenceShare); progress is reported by rank 0 for the whole job, counted
+/// from the finished frames in the folder.
 SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, const SequenceOutput& output,
-                               const SequenceHooks& hooks = {});
+                               const SequenceHooks& hooks = {}, const SequenceShare& share = {});
 
 /// The folder name of frame `index`: frame_0000, frame_0001, ...
 std::string frameFolderName(int index);

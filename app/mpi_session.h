@@ -1,0 +1,46 @@
+/// @brief The processes of one run started by mpirun (Open MPI): this one's rank, how many there
+/// are, a barrier, a broadcast from rank 0 and a job-wide stop. Built without MPI, or run without
+/// mpirun, it is rank 0 of 1 and every call returns at once, so the program behaves as before.
+#pragma once
+
+#include <string>
+
+namespace app {
+
+class MpiSession {
+public:
+    /// Starts MPI when this process was launched by mpirun (its environment says so) and the
+    /// program was built with MPI; before any Vulkan device is made, sets LP_NUM_THREADS so that
+    /// the ranks on one machine share its cores (see threadsPerRank) unless the user set it.
+    MpiSession(int* argc, char*** argv);
+    /// One process, no MPI.
+    MpiSession() = default;
+    ~MpiSession();
+    MpiSession(const MpiSession&) = delete;
+    MpiSession& operator=(const MpiSession&) = delete;
+
+    [[nodiscard]] int rank() const { return mRank; }
+    [[nodiscard]] int ranks() const { return mRanks; }
+    [[nodiscard]] bool isShared() const { return mRanks > 1; }
+
+    /// Returns once every rank called it.
+    void barrier() const;
+    /// Rank 0's `text` on every rank.
+    [[nodiscard]] std::string broadcast(const std::string& text) const;
+    /// Stops every rank of the job with `code` (after this rank printed why).
+    [[noreturn]] void abort(int code) const;
+
+    /// The lavapipe threads each rank gets: the machine's cores divided among the ranks on it, at
+    /// least one.
+    static int threadsPerRank(int cores, int ranksOnMachine);
+
+private:
+    int mRank = 0;
+    int mRanks = 1;
+    bool mIsStarted = false;
+};
+
+/// The session main() made (rank 0 of 1 before that).
+const MpiSession& mpiSession();
+
+}  // namespace app

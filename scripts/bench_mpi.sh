@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Usage: scripts/bench_mpi.sh [build-dir] [frames]
+# The parts of the many-machine scaling model (docs/benchmarks.md), measured on this machine:
+# the colon phantom's stereo ic5 fly-through (full-size walls, conformal map, 2 mm apart)
+#  - as 1 process with lavapipe on 2 threads, and as 2 ranks of 1 thread each (mpirun,
+#    --distribute frames and walls): the same cores, split two ways;
+#  - a 1-frame run: what a rank pays before its first frame (volume read and upload, map from the
+#    cache, pipelines), and the bytes one frame writes.
+# Prints seconds; the runs alternate so that drifting load falls on each alike.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+frames=${2:-20}
+cvc=$(realpath "$build/app/cvc")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mpirun=(mpirun -np 2 --oversubscribe --bind-to none)
+[ "$(id -u)" -eq 0 ] && mpirun+=(--allow-run-as-root)
+
+"$cvc" phantom --force -o "$work/colon.nrrd" >/dev/null
+seconds() { local start end; start=$(date +%s.%N); "$@" >/dev/null 2>&1; end=$(date +%s.%N); echo "$end - $start" | bc -l; }
+render=("$cvc" render "$work/colon.nrrd" --display ic5 --path "$work/colon.json" --force)
+"${render[@]}" --frames 1 -o "$work/warm" >/dev/null 2>&1  # the map into the cache
+
+one=$(LP_NUM_THREADS=2 seconds "${render[@]}" --frames 1 -o "$work/one")
+bytes=$(du -sb "$work/one/frame_0000" | cut -f1)
+single=$(LP_NUM_THREADS=2 seconds "${render[@]}" --frames "$frames" -o "$work/single")
+by_frames=$(seconds "${mpirun[@]}" "${render[@]}" --frames "$frames" --distribute frames -o "$work/frames")
+by_walls=$(seconds "${mpirun[@]}" "${render[@]}" --frames "$frames" --distribute walls -o "$work/walls")
+single2=$(LP_NUM_THREADS=2 seconds "${render[@]}" --frames "$frames" -o "$work/single")
+cmp -s "$work/single/frame_0000/sheet.png" "$work/frames/frame_0000/sheet.png" && same=yes || same=no
+
+echo "1-frame run (load + one frame), 1 rank x 2 threads: $one s; one frame writes $bytes bytes"
+echo "$frames frames, 1 rank x 2 threads: $single s, again at the end: $single2 s"
+echo "$frames frames, 2 ranks x 1 thread, --distribute frames: $by_frames s"
+echo "$frames frames, 2 ranks x 1 thread, --distribute walls: $by_walls s"
+echo "sheets equal across runs: $same"

@@ -1,0 +1,158 @@
+// `mpirun -np 2 cvc render --display` as a cluster runs it: the output folder equals the
+// single-process folder byte for byte under both distributions (and under one rank), other
+// commands are refused, and a rank killed mid-run stops the job with mpirun naming the rank,
+// keeps the finished frames, and `--resume` with one process completes the folder to equal a
+// clean run.
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/run_program.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::readWholeFile;
+using testing_support::runCvc;
+
+// Root in CI: Open MPI refuses root without the flag. Two ranks on any core count.
+const std::string kMpirun = "mpirun -np 2 --oversubscribe --allow-run-as-root";
+
+struct Fixture {
+    fs::path volume, truth, display;
+};
+
+/// A small colon phantom and a small 5-wall display with the conformal map.
+const Fixture& fixture() {
+    static const Fixture f = [] {
+        Fixture made;
+        made.volume = testing_support::processTmp("mpi_colon.nrrd");
+        made.truth = fs::path(made.volume).replace_extension(".json");
+        made.display = testing_support::processTmp("mpi_display.json");
+        const auto run = runCvc("phantom --size 96 --spacing 1.6 --force -o " + made.volume.string());
+        EXPECT_EQ(run.exitCode, 0) << run.err;
+        std::ofstream(made.display) << R"({"name": "ic5_small", "box_size_m": [2.95, 2.21, 2.95], "map": "conformal",
+          "walls": [{"name": "front", "width": 112, "height": 84}, {"name": "back", "width": 112, "height": 84},
+                    {"name": "left", "width": 112, "height": 84}, {"name": "right", "width": 112, "height": 84},
+                    {"name": "floor", "width": 84, "height": 84}]})";
+        return made;
+    }();
+    return f;
+}
+
+std::string renderArguments(const fs::path& out, int frames, const std::string& more = "") {
+    const Fixture& f = fixture();
+    return "render " + f.volume.string() + " --display " + f.display.string() + " --path " + f.truth.string() +
+           " --path-step 12 --frames " + std::to_string(frames) + " --map-size 64 --force -o " + out.string() + " " + more;
+}
+
+/// Every regular file below `folder`, by its path relative to it, with its bytes.
+std::map<std::string, std::string> filesIn(const fs::path& folder) {
+    std::map<std::string, std::string> files;
+    for (const auto& entry : fs::recursive_directory_iterator(folder)) {
+        if (entry.is_regular_file()) files[fs::relative(entry.path(), folder).string()] = readWholeFile(entry.path());
+    }
+    return files;
+}
+
+void expectSameFolders(const fs::path& expected, const fs::path& actual) {
+    const auto want = filesIn(expected), got = filesIn(actual);
+    std::vector<std::string> wantNames, gotNames;
+    for (const auto& [name, bytes] : want) wantNames.push_back(name);
+    for (const auto& [name, bytes] : got) gotNames.push_back(name);
+    ASSERT_EQ(gotNames, wantNames);
+    for (const auto& [name, bytes] : want) EXPECT_TRUE(got.at(name) == bytes) << name << " differs";
+}
+
+/// The single-process folder of `frames` frames (made once per frame count).
+const fs::path& reference(int frames) {
+    static std::map<int, fs::path> made;
+    auto found = made.find(frames);
+    if (found == made.end()) {
+        const fs::path out = testing_support::processTmp("mpi_reference_" + std::to_string(frames));
+        const auto run = runCvc(renderArguments(out, frames));
+        EXPECT_EQ(run.exitCode, 0) << run.err;
+        found = made.emplace(frames, out).first;
+    }
+    return found->second;
+}
+
+TEST(CvcMpiRender, TwoRanksWriteTheSingleProcessFolderUnderBothDistributions) {
+    for (const std::string distribution : {"frames", "walls"}) {
+        const fs::path out = testing_support::processTmp("mpi_two_ranks_" + distribution);
+        const auto run = runCvc(renderArguments(out, 3, "--distribute " + distribution), kMpirun);
+        ASSERT_EQ(run.exitCode, 0) << distribution << ": " << run.err;
+        EXPECT_NE(run.out.find("x 2 ranks (" + distribution + ")"), std::string::npos) << run.out;
+        // One summary, from rank 0.
+        std::size_t summaries = 0;
+        for (std::size_t at = run.out.find("rendered "); at != std::string::npos; at = run.out.find("rendered ", at + 1)) ++summaries;
+        EXPECT_EQ(summaries, 1u) << run.out;
+        expectSameFolders(reference(3), out);
+    }
+}
+
+TEST(CvcMpiRender, OneRankUnderMpirunChangesNothingAndOtherCommandsAreRefused) {
+    const fs::path out = testing_support::processTmp("mpi_one_rank");
+    const auto run = runCvc(renderArguments(out, 3), "mpirun -np 1 --allow-run-as-root");
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    expectSameFolders(reference(3), out);
+    // Commands that do not share their work would run it twice over the same files.
+    const auto phantom = runCvc("phantom --force -o " + testing_support::processTmp("mpi_refused.nrrd").string(), kMpirun);
+    EXPECT_NE(phantom.exitCode, 0);
+    EXPECT_NE(phantom.err.find("only `cvc render --display`"), std::string::npos) << phantom.err;
+    EXPECT_FALSE(fs::exists(testing_support::processTmp("mpi_refused.nrrd")));
+}
+
+TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
+    constexpr int kFrames = 8;
+    const fs::path out = testing_support::processTmp("mpi_killed");
+    fs::remove_all(out);
+    // Rank 1 is killed once the first frame is in place: find it by the rank Open MPI gave it.
+    const fs::path killer = testing_support::processTmp("mpi_killer.sh");
+    std::ofstream(killer) << "#!/bin/sh\n"
+                             "for i in $(seq 600); do [ -d '" << (out / "frame_0000").string() << "' ] && break; sleep 0.1; done\n"
+                             "for p in $(pgrep -f -- '-o " << out.string() << " '); do\n"
+                             "  if tr '\\0' '\\n' < /proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1; then kill -9 $p; fi\n"
+                             "done\n";
+    fs::permissions(killer, fs::perms::owner_all);
+    std::thread watcher([&] { std::system(killer.string().c_str()); });
+    const auto run = runCvc(renderArguments(out, kFrames, "--distribute frames"), kMpirun);
+    watcher.join();
+    EXPECT_NE(run.exitCode, 0);
+    EXPECT_NE(run.err.find("rank 1"), std::string::npos) << run.err;
+    int kept = 0;
+    for (int i = 0; i < kFrames; ++i) kept += fs::is_directory(out / ("frame_000" + std::to_string(i))) ? 1 : 0;
+    EXPECT_GE(kept, 1);
+    EXPECT_LT(kept, kFrames) << "the run was not stopped before its end";
+    std::string halfWritten;  // " 3 5": the hidden folders of frames being written when the job stopped
+    for (int i = 0; i < kFrames; ++i) {
+        // Appended piece by piece: GCC 12 warns (-Wrestrict) on "." + a + b.
+        std::string hidden = ".frame_000";
+        hidden += std::to_string(i);
+        hidden += ".partial";
+        if (!fs::exists(out / hidden)) continue;
+        halfWritten += ' ';
+        halfWritten += std::to_string(i);
+    }
+    // One process finishes the rest.
+    const Fixture& f = fixture();
+    const auto resumed = runCvc("render " + f.volume.string() + " --display " + f.display.string() + " --path " +
+                                f.truth.string() + " --path-step 12 --frames " + std::to_string(kFrames) +
+                                " --map-size 64 --resume -o " + out.string());
+    ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
+    EXPECT_NE(resumed.out.find("kept"), std::string::npos) << resumed.out;
+    // The frames the killed job was writing (if it was killed while writing) are named.
+    if (!halfWritten.empty()) {
+        EXPECT_NE(resumed.out.find("the run that stopped was writing frame(s)" + halfWritten), std::string::npos)
+            << resumed.out;
+    }
+    expectSameFolders(reference(kFrames), out);
+}
+
+}  // namespace
