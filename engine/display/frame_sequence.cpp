@@ -389,6 +389,11 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
     }
     const bool isShared = share.ranks > 1;
     const bool isSharingWalls = isShared && share.distribution == Distribution::Walls;
+    if (isSharingWalls && share.ranks > static_cast<int>(job.display.walls.size())) {
+        throw std::invalid_argument("walls distribution: " + std::to_string(share.ranks) + " ranks for a display of " +
+                                    std::to_string(job.display.walls.size()) +
+                                    " walls (at most one rank per wall; distribute frames instead)");
+    }
     const auto barrier = [&] {
         if (isShared) share.barrier();
     };
@@ -431,8 +436,9 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
     stereoSettings.isWritingHits = job.isWritingHits;
     RenderSettings sheetSettings = job.settings;
     sheetSettings.isWritingHits = false;
-    const bool isWritingBeforeAfter =
-        job.isWritingBeforeAfter && job.display.map != conformal::MapKind::None && share.rank == 0;
+    // Under the walls distribution rank 0 renders the before/after walls; otherwise each frame's owner.
+    const bool isWritingBeforeAfter = job.isWritingBeforeAfter && job.display.map != conformal::MapKind::None &&
+                                      (!isSharingWalls || share.rank == 0);
     const std::size_t stereoCount = 2 * job.display.walls.size();
     const std::vector<bool> myImages = imagesOfRank(share, job.display.walls.size());
     FrameWriter writer(job, folder, hooks, myImages);

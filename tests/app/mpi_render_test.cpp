@@ -49,7 +49,8 @@ const Fixture& fixture() {
 std::string renderArguments(const fs::path& out, int frames, const std::string& more = "") {
     const Fixture& f = fixture();
     return "render " + f.volume.string() + " --display " + f.display.string() + " --path " + f.truth.string() +
-           " --path-step 12 --frames " + std::to_string(frames) + " --map-size 64 --force -o " + out.string() + " " + more;
+           " --path-step 12 --frames " + std::to_string(frames) + " --map-size 64 --before-after --force -o " +
+           out.string() + " " + more;
 }
 
 /// Every regular file below `folder`, by its path relative to it, with its bytes.
@@ -144,7 +145,7 @@ TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
     const Fixture& f = fixture();
     const auto resumed = runCvc("render " + f.volume.string() + " --display " + f.display.string() + " --path " +
                                 f.truth.string() + " --path-step 12 --frames " + std::to_string(kFrames) +
-                                " --map-size 64 --resume -o " + out.string());
+                                " --map-size 64 --before-after --resume -o " + out.string());
     ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
     EXPECT_NE(resumed.out.find("kept"), std::string::npos) << resumed.out;
     // The frames the killed job was writing (if it was killed while writing) are named.
