@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/mpi_session.h"
 #include "app/option_parsing.h"
 #include "app/progress_bar.h"
 #include "colon/colon_analysis.h"
@@ -102,10 +103,11 @@ Scene prepareScene(const CoverageOptions& options) {
     Scene scene;
     volumes::LoadOptions load;
     if (!options.rawSpec.empty()) load.raw = volumes::parseRawSpec(options.rawSpec);
-    std::cerr << "coverage: loading " << options.volumePath << '\n';
+    const bool isSpeaking = mpiSession().rank() == 0;  // one voice for the job under mpirun
+    if (isSpeaking) std::cerr << "coverage: loading " << options.volumePath << '\n';
     scene.loaded = volumes::loadVolumeWithBricks(options.volumePath, load);
-    const auto progress = [](const std::string& step, int done, int total) {
-        std::cerr << "coverage: colon [" << done << '/' << total << "] " << step << '\n';
+    const auto progress = [isSpeaking](const std::string& step, int done, int total) {
+        if (isSpeaking) std::cerr << "coverage: colon [" << done << '/' << total << "] " << step << '\n';
     };
     const colon::ColonAnalysis analysis = colon::analyseColon(scene.loaded.volume, colon::ColonSettings{}, progress);
     // Cleansing rewrote the HU: the renderer must skip space by the volume it renders.
@@ -117,13 +119,13 @@ Scene prepareScene(const CoverageOptions& options) {
     } else {
         scene.centreline = engine::readCentreline(options.pathFile);
     }
-    std::cerr << "coverage: meshing the colon wall at " << options.isoHu << " HU\n";
+    if (isSpeaking) std::cerr << "coverage: meshing the colon wall at " << options.isoHu << " HU\n";
     std::vector<uint8_t> isLumen(analysis.labels.hu.size());
     for (std::size_t n = 0; n < isLumen.size(); ++n) isLumen[n] = analysis.labels.hu[n] >= colon::kLabelFirstSegment ? 1 : 0;
     colon::WallSurfaceSettings wallSettings;
     wallSettings.isoHu = options.isoHu;
     scene.wall = colon::colonWallSurface(scene.loaded.volume, isLumen, wallSettings);
-    std::cerr << "coverage: colon wall " << std::fixed << std::setprecision(0) << scene.wall.totalAreaMm2 << " mm^2 in "
+    if (isSpeaking) std::cerr << "coverage: colon wall " << std::fixed << std::setprecision(0) << scene.wall.totalAreaMm2 << " mm^2 in "
               << scene.wall.size() << " elements\n";
     return scene;
 }
@@ -272,8 +274,9 @@ std::string rowDescription(const colon::CoverageSettings& s) {
 
 /// What one row measured.
 struct RowResult {
-    engine::CoverageJob job;
-    engine::CoverageRunSummary run;
+    engine::CoverageJob job;          // every frame of the row
+    engine::CoverageRunSummary run;   // this rank's frames
+    std::vector<double> cumulativePercent;  // per frame of the row, in order (every rank's frames)
     double sheetSeconds = 0.0;
     std::vector<colon::UnseenPatch> patches;  // every unseen patch of the minimum area, largest first
     std::vector<PatchResult> located;         // the largest, with a pose and a picture
@@ -292,19 +295,40 @@ engine::CoverageJob coverageJobOf(const CoverageOptions& options, const Row& row
     return job;
 }
 
-/// Flies the row's path, marks what it shows and writes each frame's sheet.
+/// Flies this rank's frames of the row's path (every frame for one process; frame i goes to rank
+/// i mod N under mpirun), marks what they show and writes each one's sheet.
 RowResult flyAndMeasure(const CoverageOptions& options, const Row& row, const Scene& scene, engine::Raycaster& raycaster,
                         colon::SurfaceCoverage& coverage, const fs::path& folder) {
+    const MpiSession& mpi = mpiSession();
     RowResult result;
     result.job = coverageJobOf(options, row, scene);
-    if (row.display.map != conformal::MapKind::None) {
+    // Rank 0 bakes or finds the map first; the others then load it from the cache it filled.
+    const auto loadMap = [&] {
         const conformal::CubeMap map = engine::cubeMapFor(row.display, options.mapSize, "");
         raycaster.setCubeMap(map.size, map.rgba);
+    };
+    const bool hasMap = row.display.map != conformal::MapKind::None;
+    if (hasMap && mpi.rank() == 0) loadMap();
+    mpi.barrier();
+    if (hasMap && mpi.rank() != 0) loadMap();
+
+    engine::CoverageJob mine = result.job;
+    mine.poses.clear();
+    std::vector<int> frameOf;  // the row's frame index of each of mine
+    for (std::size_t i = 0; i < result.job.poses.size(); ++i) {
+        if (static_cast<int>(i % static_cast<std::size_t>(mpi.ranks())) != mpi.rank()) continue;
+        mine.poses.push_back(result.job.poses[i]);
+        frameOf.push_back(static_cast<int>(i));
     }
-    std::cerr << "coverage: " << row.name << ": " << result.job.poses.size() << " frame(s)\n";
+    const int total = static_cast<int>(result.job.poses.size());
+    if (mpi.rank() == 0) std::cerr << "coverage: " << row.name << ": " << total << " frame(s)\n";
     std::optional<ProgressBar> progress;
     engine::CoverageHooks hooks;
-    hooks.onProgress = [&progress](int done, int total) {
+    // Rank 0 shows the whole row: the frames whose sheets are in the folder, whoever wrote them.
+    hooks.onProgress = [&](int, int) {
+        if (mpi.rank() != 0) return;
+        int done = 0;
+        for (int i = 0; i < total; ++i) done += fs::exists(folder / engine::frameFolderName(i) / "sheet.png") ? 1 : 0;
         if (!progress) progress.emplace(std::cerr, total, done, isatty(fileno(stderr)) != 0);
         progress->update(done);
     };
@@ -313,19 +337,42 @@ RowResult flyAndMeasure(const CoverageOptions& options, const Row& row, const Sc
         std::map<engine::WallName, engine::RgbaImage> byWall;
         for (const auto& w : walls) byWall[w.wall] = engine::RgbaImage{w.image.width, w.image.height, w.image.rgba};
         const engine::RgbaImage sheet = engine::crossLayout(result.job.display, byWall);
-        const fs::path frameFolder = folder / engine::frameFolderName(index);
+        const fs::path frameFolder = folder / engine::frameFolderName(frameOf[static_cast<std::size_t>(index)]);
         fs::create_directories(frameFolder);
         engine::writePng((frameFolder / "sheet.png").string(), sheet.width, sheet.height, sheet.rgba, true,
                          engine::kFastPngEncoding);
         result.sheetSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
     try {
-        result.run = engine::runCoverage(raycaster, result.job, coverage, hooks);
+        result.run = engine::runCoverage(raycaster, mine, coverage, hooks);
     } catch (...) {
         if (progress) progress->finish();
         throw;
     }
-    if (progress) progress->finish();
+    // What each frame showed first, by the row's frame index, for rank 0 to merge.
+    nlohmann::json shown = nlohmann::json::array();
+    for (std::size_t f = 0; f < result.run.frames.size(); ++f) shown.push_back({frameOf[f], result.run.frames[f].newlySeenElements});
+    const std::vector<std::string> all = mpi.gather(shown.dump());
+    mpi.barrier();
+    if (progress) {
+        hooks.onProgress(total, total);
+        progress->finish();
+    }
+    if (mpi.rank() != 0) return result;
+    // Replayed in frame order, the frames' first sightings give the whole row's coverage and
+    // its curve, the same as one process flying every frame (seen is an OR over views).
+    std::vector<std::vector<uint32_t>> byFrame(result.job.poses.size());
+    for (const std::string& text : all) {
+        for (const auto& entry : nlohmann::json::parse(text)) {
+            byFrame.at(entry[0].get<std::size_t>()) = entry[1].get<std::vector<uint32_t>>();
+        }
+    }
+    colon::SurfaceCoverage merged(coverage.surface(), options.coverage);
+    for (const auto& elements : byFrame) {
+        merged.markSeen(elements);
+        result.cumulativePercent.push_back(merged.percent());
+    }
+    coverage = std::move(merged);
     return result;
 }
 
@@ -388,12 +435,13 @@ nlohmann::json rowJson(const CoverageOptions& options, const Row& row, const col
         doc["patches"].push_back(entry);
     }
     nlohmann::json perFrame = nlohmann::json::array();
-    for (const auto& f : result.run.frames) perFrame.push_back(f.percentAfter);
+    for (double percent : result.cumulativePercent) perFrame.push_back(percent);
     doc["cumulative_percent"] = perFrame;
     doc["timing"] = {{"seconds", result.run.seconds},
                      {"measure_seconds", result.run.measureSeconds},
                      {"sheet_seconds", result.sheetSeconds},
                      {"ray_casting_ms", result.run.rayCastingMs}};
+    doc["ranks"] = mpiSession().ranks();
     doc["renderer"] = rendererDescription;
     return doc;
 }
@@ -424,7 +472,7 @@ void writeRowPage(const CoverageOptions& options, const Row& row, const Scene& s
     review.wallMm2 = coverage.wallAreaMm2();
     review.overview = "coverage.png";
     review.description = rowDescription(options.coverage);
-    for (const auto& f : result.run.frames) review.cumulativePercent.push_back(f.percentAfter);
+    review.cumulativePercent = result.cumulativePercent;
     for (std::size_t p = 0; p < result.located.size(); ++p) {
         const PatchResult& r = result.located[p];
         review.patches.push_back({static_cast<int>(p) + 1, r.patch.areaMm2, r.patch.centreMm, r.pose, r.nearestFrame, r.picture});
@@ -440,9 +488,12 @@ void writeRowPage(const CoverageOptions& options, const Row& row, const Scene& s
 nlohmann::json runRow(const CoverageOptions& options, const Row& row, Scene& scene, engine::Raycaster& raycaster,
                       const std::string& rendererDescription, const fs::path& folder) {
     engine::validateDisplay(row.display);
-    fs::create_directories(folder);
+    const MpiSession& mpi = mpiSession();
+    if (mpi.rank() == 0) fs::create_directories(folder);
+    mpi.barrier();
     colon::SurfaceCoverage coverage(scene.wall, options.coverage);
     RowResult result = flyAndMeasure(options, row, scene, raycaster, coverage, folder);
+    if (mpi.rank() != 0) return {};  // rank 0 has every rank's frames: it reports the row
     locateAndPicture(options, scene, raycaster, coverage, result, folder);
     const nlohmann::json doc = rowJson(options, row, coverage, result, rendererDescription);
     writeTextFile((folder / "coverage.json").string(), doc.dump(1) + "\n");
@@ -528,10 +579,16 @@ void validate(const CoverageOptions& options) {
 }
 
 void runCoverageCommand(const CoverageOptions& options) {
+    // Under mpirun every rank analyses the same volume (the same wall, element for element) and
+    // flies its share of each row's frames; rank 0 prepares the folder, merges and reports.
+    const MpiSession& mpi = mpiSession();
     validate(options);
     const std::vector<Row> rows = rowsOf(options);  // a bad display fails before anything loads
-    prepareFolder(options);
-    if (!options.jsonPath.empty()) requireWritableOutput(options.jsonPath, options.force);
+    if (mpi.rank() == 0) {
+        prepareFolder(options);
+        if (!options.jsonPath.empty()) requireWritableOutput(options.jsonPath, options.force);
+    }
+    mpi.barrier();
 
     Scene scene = prepareScene(options);
     engine::GpuContext context(engine::GpuContextOptions{false, options.device});
@@ -542,6 +599,8 @@ void runCoverageCommand(const CoverageOptions& options) {
     nlohmann::json summary;
     if (!options.isCompare) {
         summary = runRow(options, rows.front(), scene, raycaster, context.driverDescription(), folder);
+    } else if (mpi.rank() != 0) {
+        for (const Row& row : rows) runRow(options, row, scene, raycaster, context.driverDescription(), folder / row.name);
     } else {
         summary["wall_size"] = options.wallSize.empty() ? kCompareWallSize : options.wallSize;
         summary["path_step_mm"] = options.pathStepMm;
@@ -570,6 +629,7 @@ void runCoverageCommand(const CoverageOptions& options) {
         writeTextFile((folder / "compare.md").string(), table.str());
         std::cout << table.str();
     }
+    if (mpi.rank() != 0) return;
     if (!options.jsonPath.empty()) writeTextFile(options.jsonPath, summary.dump(1) + "\n");
     std::cout << "wrote " << options.outFolder << '\n';
 }

@@ -28,11 +28,12 @@ int main(int argc, char** argv) {
     app::addCoverageCommand(program);
 
     try {
-        // Only the display render shares its work between ranks; any other command would run
-        // the same job N times over the same files.
-        if (mpi.isShared() && (argc < 2 || std::string(argv[1]) != "render")) {
-            throw std::invalid_argument("under mpirun only `cvc render --display` shares its work between ranks; run "
-                                        "other commands as one process");
+        // Only the display render and coverage share their work between ranks; any other
+        // command would run the same job N times over the same files.
+        const std::string command = argc >= 2 ? argv[1] : "";
+        if (mpi.isShared() && command != "render" && command != "coverage") {
+            throw std::invalid_argument("under mpirun only `cvc render --display` and `cvc coverage` share their work "
+                                        "between ranks; run other commands as one process");
         }
         program.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -95,6 +95,36 @@ std::string MpiSession::broadcast(const std::string& text) const {
 #endif
 }
 
+std::vector<std::string> MpiSession::gather(const std::string& text) const {
+#ifdef CVC_WITH_MPI
+    if (!mIsStarted || mRanks == 1) return {text};
+    if (text.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+        throw std::invalid_argument("MPI: a gather of " + std::to_string(text.size()) + " bytes is too large");
+    }
+    const int size = static_cast<int>(text.size());
+    std::vector<int> sizes(mRank == 0 ? static_cast<std::size_t>(mRanks) : 0);
+    check(MPI_Gather(&size, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
+    std::vector<int> offsets(sizes.size());
+    long long total = 0;
+    for (std::size_t r = 0; r < sizes.size(); ++r) {
+        if (total > std::numeric_limits<int>::max()) throw std::invalid_argument("MPI: the gathered text is too large");
+        offsets[r] = static_cast<int>(total);
+        total += sizes[r];
+    }
+    std::string all(static_cast<std::size_t>(total), '\0');
+    check(MPI_Gatherv(text.data(), size, MPI_CHAR, all.data(), sizes.data(), offsets.data(), MPI_CHAR, 0,
+                      MPI_COMM_WORLD),
+          "MPI_Gatherv");
+    std::vector<std::string> texts;
+    for (std::size_t r = 0; r < sizes.size(); ++r) {
+        texts.push_back(all.substr(static_cast<std::size_t>(offsets[r]), static_cast<std::size_t>(sizes[r])));
+    }
+    return texts;
+#else
+    return {text};
+#endif
+}
+
 void MpiSession::abort(int code) const {
 #ifdef CVC_WITH_MPI
     if (mIsStarted && mRanks > 1) MPI_Abort(MPI_COMM_WORLD, code);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace app {
 
@@ -27,6 +28,8 @@ public:
     void barrier() const;
     /// Rank 0's `text` on every rank.
     [[nodiscard]] std::string broadcast(const std::string& text) const;
+    /// Every rank's `text` on rank 0, in rank order (the others get an empty list).
+    [[nodiscard]] std::vector<std::string> gather(const std::string& text) const;
     /// Stops every rank of the job with `code` (after this rank printed why).
     [[noreturn]] void abort(int code) const;
 

@@ -157,10 +157,34 @@ double SurfaceCoverage::addView(const CoverageView& view) {
     }
     addRows(view, 0, view.height / bands);
     for (auto& worker : workers) worker.join();
-    // Summed in element order, so the figure is the same whatever the threads did.
     const double before = mSeenAreaMm2;
+    resumSeenArea();
+    return mSeenAreaMm2 - before;
+}
+
+void SurfaceCoverage::resumSeenArea() {
+    // In element order, so the figure is the same whatever the threads did.
     mSeenAreaMm2 = 0.0;
     for (std::size_t e = 0; e < mSeen.size(); ++e) mSeenAreaMm2 += mSeen[e] != 0 ? mSurface->areaMm2[e] : 0.0;
+}
+
+bool SurfaceCoverage::markElement(uint32_t e) {
+    if (std::atomic_ref<uint8_t>(mSeen[e]).exchange(1, std::memory_order_relaxed) != 0) return false;
+    const glm::ivec3 c = glm::ivec3(glm::floor((mSurface->centreMm[e] - mGridOrigin) / mCellMm));
+    std::atomic_ref<uint32_t>(mCellUnseen[cellIndex(c.x, c.y, c.z)]).fetch_sub(1, std::memory_order_relaxed);
+    return true;
+}
+
+double SurfaceCoverage::markSeen(std::span<const uint32_t> elements) {
+    for (uint32_t e : elements) {
+        if (e >= mSeen.size()) {
+            throw ColonError("coverage: element " + std::to_string(e) + " of " + std::to_string(mSeen.size()) +
+                             " marked seen");
+        }
+    }
+    for (uint32_t e : elements) markElement(e);
+    const double before = mSeenAreaMm2;
+    resumSeenArea();
     return mSeenAreaMm2 - before;
 }
 
@@ -228,10 +252,7 @@ void SurfaceCoverage::addRows(const CoverageView& view, int rowBegin, int rowEnd
                 if (!(toEyeLength > 0.0)) return;
                 if (glm::dot(mSurface->normal[e], toEye) < mCosMaxAngle * toEyeLength) return;
                 if (glm::dot(mSurface->normal[e], sheet) <= 0.0) return;
-                if (seen.exchange(1, std::memory_order_relaxed) == 0) {
-                    const glm::ivec3 c = glm::ivec3(glm::floor((mSurface->centreMm[e] - mGridOrigin) / mCellMm));
-                    std::atomic_ref<uint32_t>(mCellUnseen[cellIndex(c.x, c.y, c.z)]).fetch_sub(1, std::memory_order_relaxed);
-                }
+                markElement(e);
             };
             mark(nearest);
             if (radius > 0.0) forEachElementNear(hit, radius, [&](uint32_t e, float) { mark(e); });

@@ -62,6 +62,10 @@ public:
     /// Throws ColonError for a view whose hit array does not match its size.
     double addView(const CoverageView& view);
 
+    /// Marks `elements` seen (what another process's views showed, say); returns the area
+    /// they add. Throws ColonError for an element the surface lacks.
+    double markSeen(std::span<const uint32_t> elements);
+
     [[nodiscard]] double seenAreaMm2() const { return mSeenAreaMm2; }
     [[nodiscard]] double wallAreaMm2() const { return mSurface->totalAreaMm2; }
     [[nodiscard]] double percent() const { return 100.0 * mSeenAreaMm2 / mSurface->totalAreaMm2; }
@@ -89,6 +93,10 @@ private:
 
     /// Marks what the pixels of rows [rowBegin, rowEnd) of `view` show (threads share mSeen).
     void addRows(const CoverageView& view, int rowBegin, int rowEnd);
+    /// Marks element e seen if it was not (safe from several threads); true when it was not.
+    bool markElement(uint32_t e);
+    /// mSeenAreaMm2 summed again in element order (the same figure whatever order marked them).
+    void resumSeenArea();
 
     const WallSurface* mSurface;
     CoverageSettings mSettings;

@@ -46,11 +46,15 @@ CoverageRunSummary runCoverage(Raycaster& raycaster, const CoverageJob& job, col
         const glm::dvec3 eyeMm =
             wallView(job.display, job.display.walls.front().name, Eye::Centre, sceneOf(index), job.warpMode).rays.eyeMm;
         CoverageFrame frame;
+        const std::vector<uint8_t> seenBefore = coverage.seen();
         for (const RenderedImage& image : images) {
             summary.rayCastingMs += std::max(image.deviceMs, 0.0);
             frame.newlySeenMm2 += coverage.addView({image.width, image.height, image.hitMm, eyeMm});
         }
         frame.percentAfter = coverage.percent();
+        for (std::size_t e = 0; e < seenBefore.size(); ++e) {
+            if (seenBefore[e] == 0 && coverage.seen()[e] != 0) frame.newlySeenElements.push_back(static_cast<uint32_t>(e));
+        }
         summary.measureSeconds += secondsSince(measureStart);
         summary.frames.push_back(frame);
         if (hooks.onFrame) {

@@ -33,6 +33,10 @@ struct CoverageHooks {
 struct CoverageFrame {
     double newlySeenMm2 = 0.0;  ///< wall first shown by this frame
     double percentAfter = 0.0;  ///< coverage once this frame was added
+    /// The elements first shown by this frame, ascending: replayed in frame order with
+    /// SurfaceCoverage::markSeen they give the run's result, which lets processes that flew
+    /// different frames merge what they saw.
+    std::vector<uint32_t> newlySeenElements;
 };
 
 struct CoverageRunSummary {

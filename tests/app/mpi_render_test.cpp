@@ -12,6 +12,7 @@
 #include <thread>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "tests/support/run_program.h"
 
@@ -106,8 +107,35 @@ TEST(CvcMpiRender, OneRankUnderMpirunChangesNothingAndOtherCommandsAreRefused) {
     // Commands that do not share their work would run it twice over the same files.
     const auto phantom = runCvc("phantom --force -o " + testing_support::processTmp("mpi_refused.nrrd").string(), kMpirun);
     EXPECT_NE(phantom.exitCode, 0);
-    EXPECT_NE(phantom.err.find("only `cvc render --display`"), std::string::npos) << phantom.err;
+    EXPECT_NE(phantom.err.find("only `cvc render --display` and `cvc coverage`"), std::string::npos) << phantom.err;
     EXPECT_FALSE(fs::exists(testing_support::processTmp("mpi_refused.nrrd")));
+}
+
+TEST(CvcMpiCoverage, TwoRanksMeasureWhatOneProcessMeasures) {
+    // Frames split between the ranks, their first sightings merged by rank 0 in frame order: the
+    // same figure, curve and patches as one process, the same sheets.
+    const Fixture& f = fixture();
+    const auto coverageArguments = [&](const fs::path& out) {
+        return "coverage " + f.volume.string() + " --path " + f.truth.string() + " --display " + f.display.string() +
+               " --path-step 12 --frames 5 --map-size 64 --patch-pictures 2 --force -o " + out.string();
+    };
+    const fs::path single = testing_support::processTmp("mpi_coverage_single");
+    const fs::path shared = testing_support::processTmp("mpi_coverage_shared");
+    const auto one = runCvc(coverageArguments(single));
+    ASSERT_EQ(one.exitCode, 0) << one.err;
+    const auto two = runCvc(coverageArguments(shared), kMpirun);
+    ASSERT_EQ(two.exitCode, 0) << two.err;
+    const auto a = nlohmann::json::parse(readWholeFile(single / "coverage.json"));
+    const auto b = nlohmann::json::parse(readWholeFile(shared / "coverage.json"));
+    EXPECT_EQ(b["ranks"], 2);
+    for (const char* key : {"coverage_percent", "seen_mm2", "wall_mm2", "cumulative_percent", "patches", "frames"}) {
+        EXPECT_EQ(a[key], b[key]) << key;
+    }
+    for (int i = 0; i < 5; ++i) {
+        const std::string sheet = "frame_000" + std::to_string(i) + "/sheet.png";
+        EXPECT_TRUE(readWholeFile(single / sheet) == readWholeFile(shared / sheet)) << sheet;
+    }
+    EXPECT_TRUE(fs::exists(shared / "index.html"));
 }
 
 TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
