@@ -27,16 +27,15 @@
 #include "colon/colon_analysis.h"
 #include "colon/coverage_image.h"
 #include "colon/surface_coverage.h"
-#include "colon/volume_sampling.h"
 #include "colon/wall_surface.h"
 #include "engine/core/gpu_context.h"
 #include "engine/display/coverage_run.h"
 #include "engine/display/display_json.h"
 #include "engine/display/display_map.h"
+#include "engine/display/patch_views.h"
 #include "engine/display/review_page.h"
 #include "engine/display/review_sheet.h"
 #include "engine/output/png_writer.h"
-#include "engine/render/view_rays.h"
 #include "engine/render/volume_texture.h"
 #include "volumes/brick_minmax.h"
 #include "volumes/load_volume.h"
@@ -150,119 +149,6 @@ std::vector<engine::CameraPose> posesOf(const CoverageOptions& options, const en
     return poses;
 }
 
-/// The pinhole view of a patch from `pose`, 90 degrees across, with hits.
-engine::RenderedImage patchView(engine::Raycaster& raycaster, const engine::CameraPose& pose, const glm::dvec3& lookAt,
-                                const engine::RenderSettings& settings, int pixels) {
-    engine::PinholeCamera camera;
-    camera.positionMm = pose.positionMm;
-    camera.lookAtMm = lookAt;
-    camera.up = pose.up;
-    camera.verticalFovDeg = 90.0;
-    camera.width = camera.height = pixels;
-    engine::RenderSettings withHits = settings;
-    withHits.isWritingHits = true;
-    return raycaster.render(engine::viewRaysFrom(camera), withHits);
-}
-
-/// The share of `patch`'s area whose elements some pixel of `image` hits.
-double shownShare(const engine::RenderedImage& image, const colon::SurfaceCoverage& coverage,
-                  const colon::UnseenPatch& patch, double snapMm) {
-    std::vector<uint8_t> isInPatch(coverage.surface().size(), 0), isShown(coverage.surface().size(), 0);
-    for (uint32_t e : patch.elements) isInPatch[e] = 1;
-    for (std::size_t p = 0; p < image.hitMm.size() / 4; ++p) {
-        const float* h = &image.hitMm[4 * p];
-        if (!(h[3] > 0.5f)) continue;
-        const int e = coverage.nearestElement({h[0], h[1], h[2]}, snapMm);
-        if (e >= 0 && isInPatch[static_cast<std::size_t>(e)] != 0) isShown[static_cast<std::size_t>(e)] = 1;
-    }
-    double shown = 0.0;
-    for (uint32_t e : patch.elements) shown += isShown[e] != 0 ? coverage.surface().areaMm2[e] : 0.0;
-    return shown / patch.areaMm2;
-}
-
-/// `image` with the wall no frame showed tinted red.
-engine::RgbaImage tintedUnseen(engine::RenderedImage image, const colon::SurfaceCoverage& coverage, double snapMm) {
-    for (std::size_t p = 0; p < image.hitMm.size() / 4; ++p) {
-        const float* h = &image.hitMm[4 * p];
-        if (!(h[3] > 0.5f)) continue;
-        const int e = coverage.nearestElement({h[0], h[1], h[2]}, snapMm);
-        if (e < 0 || coverage.seen()[static_cast<std::size_t>(e)] != 0) continue;
-        uint8_t* px = &image.rgba[4 * p];
-        px[0] = static_cast<uint8_t>(std::lround(0.45 * px[0] + 0.55 * 235));
-        px[1] = static_cast<uint8_t>(std::lround(0.45 * px[1] + 0.55 * 30));
-        px[2] = static_cast<uint8_t>(std::lround(0.45 * px[2] + 0.55 * 30));
-    }
-    return engine::RgbaImage{image.width, image.height, std::move(image.rgba)};
-}
-
-struct PatchResult {
-    colon::UnseenPatch patch;
-    engine::CameraPose pose;
-    int nearestFrame = -1;
-    double shownPercent = 0.0;
-    std::string picture;
-};
-
-/// For each of the largest patches, the pose that shows most of it. Candidates: the frames
-/// nearest the patch, each turned to look straight at it, and points of the lumen in front of the
-/// patch along its normal (a virtual camera moved off the path, as a reader would steer one to
-/// look behind a fold); the one whose view hits the most patch area wins. The nearest frame is the
-/// frame nearest the chosen position.
-std::vector<PatchResult> locatePatches(engine::Raycaster& raycaster, const colon::SurfaceCoverage& coverage,
-                                       const std::vector<colon::UnseenPatch>& patches,
-                                       const std::vector<engine::CameraPose>& poses, const volumes::Volume& volume,
-                                       const engine::RenderSettings& settings, double snapMm, int count) {
-    constexpr int kNearestFrames = 6;
-    constexpr int kProbePixels = 96;
-    constexpr double kInFrontMm[] = {4.0, 8.0, 12.0};
-    std::vector<PatchResult> results;
-    for (const auto& patch : patches) {
-        if (static_cast<int>(results.size()) >= count) break;
-        std::vector<int> order(poses.size());
-        for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-        const auto distanceTo = [&](const glm::dvec3& p, int i) { return glm::length(poses[static_cast<std::size_t>(i)].positionMm - p); };
-        std::sort(order.begin(), order.end(), [&](int a, int b) { return distanceTo(patch.centreMm, a) < distanceTo(patch.centreMm, b); });
-        // Where to look from, each with the up of the frame it comes from.
-        std::vector<std::pair<glm::dvec3, int>> candidates;
-        for (int i : order) {
-            if (static_cast<int>(candidates.size()) >= kNearestFrames) break;
-            const glm::dvec3 p = poses[static_cast<std::size_t>(i)].positionMm;
-            // Both directions pass the same places: one candidate per place.
-            if (std::none_of(candidates.begin(), candidates.end(), [&](const auto& c) { return glm::length(c.first - p) < 1e-6; })) {
-                candidates.emplace_back(p, i);
-            }
-        }
-        if (!order.empty()) {
-            for (double d : kInFrontMm) {
-                const glm::dvec3 p = patch.centreMm + d * patch.normal;
-                if (colon::trilinearHu(volume, p) < settings.isoHu) candidates.emplace_back(p, order.front());
-            }
-        }
-        PatchResult best;
-        best.patch = patch;
-        best.shownPercent = -1.0;
-        for (const auto& [position, frameIndex] : candidates) {
-            const engine::CameraPose& frame = poses[static_cast<std::size_t>(frameIndex)];
-            const glm::dvec3 view = patch.centreMm - position;
-            if (!(glm::length(view) > 1e-6)) continue;
-            const glm::dvec3 up = std::abs(glm::dot(glm::normalize(view), frame.up)) < 0.95 ? frame.up : frame.forward;
-            const engine::CameraPose pose = engine::poseLookingAt(position, patch.centreMm, up);
-            const double share = shownShare(patchView(raycaster, pose, patch.centreMm, settings, kProbePixels), coverage,
-                                            patch, snapMm);
-            if (share > best.shownPercent) {
-                best.shownPercent = share;
-                best.pose = pose;
-            }
-        }
-        best.nearestFrame = *std::min_element(order.begin(), order.end(), [&](int a, int b) {
-            return distanceTo(best.pose.positionMm, a) < distanceTo(best.pose.positionMm, b);
-        });
-        best.shownPercent = 100.0 * std::max(best.shownPercent, 0.0);
-        results.push_back(best);
-    }
-    return results;
-}
-
 std::string rowDescription(const colon::CoverageSettings& s) {
     std::ostringstream text;
     text << "A wall element counts as seen when a pixel's first hit lands on it with at most " << s.maxFootprintMm2
@@ -279,7 +165,7 @@ struct RowResult {
     std::vector<double> cumulativePercent;  // per frame of the row, in order (every rank's frames)
     double sheetSeconds = 0.0;
     std::vector<colon::UnseenPatch> patches;  // every unseen patch of the minimum area, largest first
-    std::vector<PatchResult> located;         // the largest, with a pose and a picture
+    std::vector<engine::PatchView> located;         // the largest, with a pose and a picture
 };
 
 engine::CoverageJob coverageJobOf(const CoverageOptions& options, const Row& row, const Scene& scene) {
@@ -382,16 +268,17 @@ void locateAndPicture(const CoverageOptions& options, const Scene& scene, engine
     const glm::dvec3 spacing = scene.loaded.volume.spacingMm;
     const double snapMm = 1.5 * std::max({spacing.x, spacing.y, spacing.z});
     result.patches = coverage.unseenPatches(options.minPatchMm2);
-    result.located = locatePatches(raycaster, coverage, result.patches, result.job.poses, scene.loaded.volume,
-                                   result.job.settings, snapMm, options.patchPictures);
+    result.located = engine::locatePatches(raycaster, coverage, result.patches, result.job.poses, scene.loaded.volume,
+                                           result.job.settings, snapMm, options.patchPictures);
     fs::create_directories(folder / "patches");
     for (std::size_t p = 0; p < result.located.size(); ++p) {
-        PatchResult& r = result.located[p];
+        engine::PatchView& r = result.located[p];
         std::ostringstream name;
         name << "patches/patch_" << std::setw(2) << std::setfill('0') << p + 1 << ".png";
         r.picture = name.str();
         const engine::RgbaImage picture =
-            tintedUnseen(patchView(raycaster, r.pose, r.patch.centreMm, result.job.settings, 320), coverage, snapMm);
+            engine::tintedUnseen(engine::patchView(raycaster, r.pose, r.patch.centreMm, result.job.settings, 320),
+                                 coverage, snapMm);
         engine::writePng((folder / r.picture).string(), picture.width, picture.height, picture.rgba, true);
     }
     std::vector<colon::UnseenPatch> ringed;
@@ -425,7 +312,7 @@ nlohmann::json rowJson(const CoverageOptions& options, const Row& row, const col
         nlohmann::json entry = {{"area_mm2", patch.areaMm2}, {"centre_mm", vecJson(patch.centreMm)},
                                 {"normal", vecJson(patch.normal)}};
         if (p < result.located.size()) {
-            const PatchResult& r = result.located[p];
+            const engine::PatchView& r = result.located[p];
             entry["pose"] = {{"position", vecJson(r.pose.positionMm)}, {"look_at", vecJson(r.patch.centreMm)},
                              {"up", vecJson(r.pose.up)}};
             entry["nearest_frame"] = r.nearestFrame;
@@ -474,7 +361,7 @@ void writeRowPage(const CoverageOptions& options, const Row& row, const Scene& s
     review.description = rowDescription(options.coverage);
     review.cumulativePercent = result.cumulativePercent;
     for (std::size_t p = 0; p < result.located.size(); ++p) {
-        const PatchResult& r = result.located[p];
+        const engine::PatchView& r = result.located[p];
         review.patches.push_back({static_cast<int>(p) + 1, r.patch.areaMm2, r.patch.centreMm, r.pose, r.nearestFrame, r.picture});
     }
     page.coverage = review;
