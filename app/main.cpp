@@ -28,12 +28,12 @@ int main(int argc, char** argv) {
     app::addCoverageCommand(program);
 
     try {
-        // Only the display render and coverage share their work between ranks; any other
-        // command would run the same job N times over the same files.
+        // Only the display render, coverage and the polyp check share their work between
+        // ranks; any other command would run the same job N times over the same files.
         const std::string command = argc >= 2 ? argv[1] : "";
-        if (mpi.isShared() && command != "render" && command != "coverage") {
-            throw std::invalid_argument("under mpirun only `cvc render --display` and `cvc coverage` share their work "
-                                        "between ranks; run other commands as one process");
+        if (mpi.isShared() && command != "render" && command != "coverage" && command != "polyp-check") {
+            throw std::invalid_argument("under mpirun only `cvc render --display`, `cvc coverage` and `cvc polyp-check` "
+                                        "share their work between ranks; run other commands as one process");
         }
         program.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -3,6 +3,7 @@
 /// ceiling's directions and toward a corner, for both eyes, through the conformal map, the
 /// linear baseline and no map, and measured as the viewer sees it against a pinhole reference
 /// (engine/display/polyp_check.h). Writes a Markdown table, JSON and side-by-side crops.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 #include <unistd.h>
 
@@ -20,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/mpi_session.h"
 #include "app/option_parsing.h"
 #include "app/progress_bar.h"
 #include "colon/polyp_truth.h"
@@ -57,14 +60,17 @@ nlohmann::json numberOrNull(double value) { return std::isfinite(value) ? nlohma
 
 std::string mapName(conformal::MapKind kind) { return conformal::mapKindName(kind); }
 
-/// The worst error of each map over polyps of 6 mm and more seen on the ceiling's directions at
-/// the targeted poses (the acceptance figure).
-nlohmann::json worstOf(const std::vector<engine::PolypViewResult>& results, double engine::PolypViewResult::*error) {
+/// The worst error (`key` of the result entries) of each map over polyps of 6 mm and more seen
+/// on the ceiling's directions at the targeted poses (the acceptance figure).
+nlohmann::json worstOf(const nlohmann::json& entries, const char* key) {
     std::map<std::string, double> worst;
-    for (const auto& r : results) {
-        if (r.diameterMm < 6.0 || !r.isOnCeiling || !r.isTargeted || r.map == conformal::MapKind::None) continue;
-        const double value = r.*error;
-        double& slot = worst.try_emplace(mapName(r.map), 0.0).first->second;
+    for (const auto& r : entries) {
+        if (r["diameter_mm"].get<double>() < 6.0 || !r["on_ceiling"].get<bool>() || !r["targeted"].get<bool>() ||
+            r["map"] == "none") {
+            continue;
+        }
+        const double value = r[key].is_number() ? r[key].get<double>() : std::numeric_limits<double>::quiet_NaN();
+        double& slot = worst.try_emplace(r["map"].get<std::string>(), 0.0).first->second;
         slot = std::isfinite(value) ? std::max(slot, value) : std::numeric_limits<double>::infinity();
     }
     nlohmann::json out = nlohmann::json::object();
@@ -72,8 +78,8 @@ nlohmann::json worstOf(const std::vector<engine::PolypViewResult>& results, doub
     return out;
 }
 
-nlohmann::json resultsJson(const std::vector<engine::PolypViewResult>& results, const PolypCheckOptions& options,
-                           const engine::PolypCheckJob& job) {
+/// One JSON entry per result, in the results' order.
+nlohmann::json resultEntries(const std::vector<engine::PolypViewResult>& results, const engine::PolypCheckJob& job) {
     nlohmann::json list = nlohmann::json::array();
     std::map<std::string, const engine::PolypPose*> poseByName;
     for (const auto& pose : job.poses) poseByName[pose.name] = &pose;
@@ -109,6 +115,12 @@ nlohmann::json resultsJson(const std::vector<engine::PolypViewResult>& results, 
                         {"forward", {r.cameraPose.forward.x, r.cameraPose.forward.y, r.cameraPose.forward.z}},
                         {"up", {r.cameraPose.up.x, r.cameraPose.up.y, r.cameraPose.up.z}}});
     }
+    return list;
+}
+
+/// The check's document (polyp_check.json) around the result entries.
+nlohmann::json resultsJson(const nlohmann::json& list, const PolypCheckOptions& options,
+                           const engine::PolypCheckJob& job) {
     nlohmann::json doc;
     doc["volume"] = fs::absolute(options.volumePath).string();
     doc["truth"] = fs::absolute(options.truthPath).string();
@@ -122,9 +134,9 @@ nlohmann::json resultsJson(const std::vector<engine::PolypViewResult>& results, 
     doc["tolerance_mm"] = job.toleranceMm;
     doc["min_polyp_pixels"] = colon::kMinPolypPixels;
     doc["results"] = list;
-    doc["worst_aspect_error"] = worstOf(results, &engine::PolypViewResult::aspectError);
-    doc["worst_circularity_error"] = worstOf(results, &engine::PolypViewResult::circularityError);
-    doc["worst_grid_angle_error_deg"] = worstOf(results, &engine::PolypViewResult::gridAngleErrorDeg);
+    doc["worst_aspect_error"] = worstOf(list, "aspect_error");
+    doc["worst_circularity_error"] = worstOf(list, "circularity_error");
+    doc["worst_grid_angle_error_deg"] = worstOf(list, "grid_angle_error_deg");
     doc["worst_over"] = "polyps of 6 mm and more whose direction falls on the missing ceiling, targeted poses";
     return doc;
 }
@@ -136,22 +148,33 @@ std::string percent(double fraction) {
     return text.str();
 }
 
-std::string markdownTable(const std::vector<engine::PolypViewResult>& results) {
+double numberOrNan(const nlohmann::json& value) {
+    return value.is_number() ? value.get<double>() : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string markdownTable(const nlohmann::json& entries) {
     std::ostringstream md;
     md << "| polyp | mm | pose | on ceiling | eye | map | visible | px across | aspect error | circularity error | "
           "grid angle error |\n|---:|---:|---|---|---|---|---|---:|---:|---:|---:|\n";
-    for (const auto& r : results) {
-        md << "| " << r.polyp << " | " << r.diameterMm << " | " << r.pose << (r.isTargeted ? "" : " (no target)") << " | "
-           << (r.isOnCeiling ? "yes" : "no") << " | " << engine::eyeText(r.eye) << " | " << mapName(r.map) << " | "
-           << (r.isVisible ? "yes" : r.map == conformal::MapKind::None ? "cut off (" + percent(r.visibleFraction) + ")" : "no")
-           << " | " << std::fixed << std::setprecision(0) << r.view.pixelsAcross << " | " << percent(r.aspectError)
-           << " | " << percent(r.circularityError) << " | ";
-        if (std::isfinite(r.gridAngleErrorDeg)) {
-            md << std::setprecision(2) << r.gridAngleErrorDeg << "°";
+    for (const auto& r : entries) {
+        const std::string map = r["map"].get<std::string>();
+        md << "| " << r["polyp"].get<int>() << " | " << r["diameter_mm"].get<double>() << " | "
+           << r["pose"].get<std::string>() << (r["targeted"].get<bool>() ? "" : " (no target)") << " | "
+           << (r["on_ceiling"].get<bool>() ? "yes" : "no") << " | " << r["eye"].get<std::string>() << " | " << map << " | "
+           << (r["visible"].get<bool>() ? "yes"
+               : map == "none"           ? "cut off (" + percent(numberOrNan(r["visible_fraction"])) + ")"
+                                         : "no")
+           << " | " << std::fixed << std::setprecision(0) << r["pixels_across"].get<double>() << " | "
+           << percent(numberOrNan(r["aspect_error"])) << " | " << percent(numberOrNan(r["circularity_error"])) << " | ";
+        const double gridError = numberOrNan(r["grid_angle_error_deg"]);
+        if (std::isfinite(gridError)) {
+            md << std::setprecision(2) << gridError << "°";
         } else {
             md << "–";
         }
         md << " |\n";
+        md.unsetf(std::ios::fixed);
+        md << std::setprecision(6);
     }
     return md.str();
 }
@@ -193,11 +216,16 @@ void runPolypCheck(const PolypCheckOptions& options) {
     if (options.mapSize < 16 || options.mapSize > 4096) throw std::invalid_argument("--map-size must be 16..4096");
     const fs::path folder(options.outFolder);
     const fs::path jsonFile = folder / "polyp_check.json", tableFile = folder / "polyp_check.md", crops = folder / "crops";
-    if (fs::exists(folder) && !fs::is_directory(folder)) throw std::runtime_error(options.outFolder + ": is not a folder");
-    if (!options.force && (fs::exists(jsonFile) || fs::exists(tableFile) || fs::exists(crops))) {
-        throw std::runtime_error(options.outFolder + ": holds an earlier polyp check (use --force to replace it)");
+    // Under mpirun the polyps are dealt out between the ranks; rank 0 checks the folder first.
+    const MpiSession& mpi = mpiSession();
+    if (mpi.rank() == 0) {
+        if (fs::exists(folder) && !fs::is_directory(folder)) throw std::runtime_error(options.outFolder + ": is not a folder");
+        if (!options.force && (fs::exists(jsonFile) || fs::exists(tableFile) || fs::exists(crops))) {
+            throw std::runtime_error(options.outFolder + ": holds an earlier polyp check (use --force to replace it)");
+        }
+        if (!options.jsonPath.empty()) requireWritableOutput(options.jsonPath, options.force);
     }
-    if (!options.jsonPath.empty()) requireWritableOutput(options.jsonPath, options.force);
+    mpi.barrier();
 
     engine::PolypCheckJob job;
     job.display = display;
@@ -222,30 +250,67 @@ void runPolypCheck(const PolypCheckOptions& options) {
     engine::GpuContext context(engine::GpuContextOptions{false, options.device});
     engine::VolumeTexture texture(context, loaded.volume);
     engine::Raycaster raycaster(context, loaded.volume, texture, loaded.bricks);
+    // Rank 0 bakes or finds the maps first; the others then load them from the cache it filled.
     std::map<conformal::MapKind, conformal::CubeMap> cubeMaps;
-    for (conformal::MapKind kind : job.maps) {
-        if (kind == conformal::MapKind::None) continue;
-        engine::Display withMap = display;
-        withMap.map = kind;
-        cubeMaps[kind] = engine::cubeMapFor(withMap, options.mapSize, "");
-    }
+    const auto loadMaps = [&] {
+        for (conformal::MapKind kind : job.maps) {
+            if (kind == conformal::MapKind::None) continue;
+            engine::Display withMap = display;
+            withMap.map = kind;
+            cubeMaps[kind] = engine::cubeMapFor(withMap, options.mapSize, "");
+        }
+    };
+    if (mpi.rank() == 0) loadMaps();
+    mpi.barrier();
+    if (mpi.rank() != 0) loadMaps();
 
+    // This rank's polyps: the r-th, the (r + N)-th, ... of those asked for.
+    engine::PolypCheckJob mine = job;
+    mine.polypIndices.clear();
+    for (std::size_t i = 0; i < job.polypIndices.size(); ++i) {
+        if (static_cast<int>(i % static_cast<std::size_t>(mpi.ranks())) == mpi.rank()) mine.polypIndices.push_back(job.polypIndices[i]);
+    }
     std::optional<ProgressBar> progress;
-    const auto onProgress = [&progress](int done, int total) {
+    const auto onProgress = [&progress, &mpi](int done, int total) {
+        if (mpi.rank() != 0) return;  // rank 0 shows its share
         if (!progress) progress.emplace(std::cerr, total, 0, isatty(fileno(stderr)) != 0);
         progress->update(done);
     };
     const auto results = engine::checkPolyps(
-        raycaster, job, [&cubeMaps](conformal::MapKind kind) -> const conformal::CubeMap& { return cubeMaps.at(kind); },
+        raycaster, mine, [&cubeMaps](conformal::MapKind kind) -> const conformal::CubeMap& { return cubeMaps.at(kind); },
         onProgress);
     if (progress) progress->finish();
-
+    // One file per polyp, pose and eye: each rank its own, once the check succeeded.
     fs::create_directories(crops);
-    const nlohmann::json doc = resultsJson(results, options, job);
+    writeCrops(results, crops, job.cropSize);
+
+    // Rank 0 puts every rank's entries in the order one process gives them: map, polyp (as
+    // asked for), pose, eye.
+    const std::vector<std::string> all = mpi.gather(resultEntries(results, mine).dump());
+    mpi.barrier();
+    if (mpi.rank() != 0) return;
+    nlohmann::json list = nlohmann::json::array();
+    for (const std::string& text : all) {
+        for (auto& entry : nlohmann::json::parse(text)) list.push_back(std::move(entry));
+    }
+    const auto positionOf = [](const auto& sequence, const auto& value) {
+        return static_cast<std::size_t>(std::find(sequence.begin(), sequence.end(), value) - sequence.begin());
+    };
+    std::vector<std::string> mapOrder, poseOrder;
+    for (conformal::MapKind kind : job.maps) mapOrder.push_back(mapName(kind));
+    for (const auto& pose : job.poses) poseOrder.push_back(pose.name);
+    const auto keyOf = [&](const nlohmann::json& r) {
+        return std::make_tuple(positionOf(mapOrder, r["map"].get<std::string>()),
+                               positionOf(job.polypIndices, r["polyp"].get<int>()),
+                               positionOf(poseOrder, r["pose"].get<std::string>()), r["eye"].get<std::string>() != "left");
+    };
+    std::vector<nlohmann::json> ordered(list.begin(), list.end());
+    std::stable_sort(ordered.begin(), ordered.end(),
+                     [&](const nlohmann::json& a, const nlohmann::json& b) { return keyOf(a) < keyOf(b); });
+    const nlohmann::json doc = resultsJson(nlohmann::json(ordered), options, job);
     writeTextFile(jsonFile.string(), doc.dump(1) + "\n");
     if (!options.jsonPath.empty()) writeTextFile(options.jsonPath, doc.dump(1) + "\n");
-    writeTextFile(tableFile.string(), markdownTable(results));
-    writeCrops(results, crops, job.cropSize);
+    writeTextFile(tableFile.string(), markdownTable(doc["results"]));
 
     std::cout << "checked " << job.polypIndices.size() << " polyp(s) x " << job.poses.size() << " poses x 2 eyes x "
               << job.maps.size() << " maps on " << context.driverDescription() << '\n';

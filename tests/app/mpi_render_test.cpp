@@ -1,8 +1,8 @@
 // `mpirun -np 2 cvc render --display` as a cluster runs it: the output folder equals the
-// single-process folder byte for byte under both distributions (and under one rank), other
-// commands are refused, and a rank killed mid-run stops the job with mpirun naming the rank,
-// keeps the finished frames, and `--resume` with one process completes the folder to equal a
-// clean run.
+// single-process folder byte for byte under both distributions (and under one rank), coverage
+// and the polyp check give what one process gives, other commands are refused, and a rank killed
+// mid-run stops the job with mpirun naming the rank, keeps the finished frames, and `--resume`
+// with one process completes the folder to equal a clean run.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -107,7 +107,8 @@ TEST(CvcMpiRender, OneRankUnderMpirunChangesNothingAndOtherCommandsAreRefused) {
     // Commands that do not share their work would run it twice over the same files.
     const auto phantom = runCvc("phantom --force -o " + testing_support::processTmp("mpi_refused.nrrd").string(), kMpirun);
     EXPECT_NE(phantom.exitCode, 0);
-    EXPECT_NE(phantom.err.find("only `cvc render --display` and `cvc coverage`"), std::string::npos) << phantom.err;
+    EXPECT_NE(phantom.err.find("only `cvc render --display`, `cvc coverage` and `cvc polyp-check`"), std::string::npos)
+        << phantom.err;
     EXPECT_FALSE(fs::exists(testing_support::processTmp("mpi_refused.nrrd")));
 }
 
@@ -136,6 +137,23 @@ TEST(CvcMpiCoverage, TwoRanksMeasureWhatOneProcessMeasures) {
         EXPECT_TRUE(readWholeFile(single / sheet) == readWholeFile(shared / sheet)) << sheet;
     }
     EXPECT_TRUE(fs::exists(shared / "index.html"));
+}
+
+TEST(CvcMpiPolypCheck, TwoRanksWriteWhatOneProcessWrites) {
+    // Polyps dealt out between the ranks, the entries put back in one process's order by rank 0:
+    // the same JSON, table and crops, byte for byte.
+    const Fixture& f = fixture();
+    const auto arguments = [&](const fs::path& out) {
+        return "polyp-check " + f.volume.string() + " --truth " + f.truth.string() +
+               " --polyps 2 3 --wall-size 280x210 --map-size 64 --force -o " + out.string();
+    };
+    const fs::path single = testing_support::processTmp("mpi_polyps_single");
+    const fs::path shared = testing_support::processTmp("mpi_polyps_shared");
+    const auto one = runCvc(arguments(single));
+    ASSERT_EQ(one.exitCode, 0) << one.err;
+    const auto two = runCvc(arguments(shared), kMpirun);
+    ASSERT_EQ(two.exitCode, 0) << two.err;
+    expectSameFolders(single, shared);
 }
 
 TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
