@@ -21,7 +21,7 @@ cat >"$work/ic5_350.json" <<'JSON'
            {"name": "left", "width": 350, "height": 262}, {"name": "right", "width": 350, "height": 262},
            {"name": "floor", "width": 350, "height": 350}]}
 JSON
-seconds() { local start end; start=$(date +%s.%N); "$@" >/dev/null 2>&1; end=$(date +%s.%N); echo "$end - $start" | bc -l; }
+seconds() { local start end; start=$(date +%s.%N); "$@" >/dev/null 2>&1; end=$(date +%s.%N); awk "BEGIN {print $end - $start}"; }
 render=() coverage=()
 for ((i = 0; i < repeats; ++i)); do
   render+=("$(seconds "$cvc" render "$work/colon.nrrd" --display "$work/ic5_350.json" --path "$work/colon.json" \
@@ -36,5 +36,5 @@ frames=$(ls -d "$work"/render/frame_* | wc -l)
 echo "frames: $frames (ic5, 350x262 walls, 5 mm apart)"
 echo "stereo fly-through (cvc render --display): median ${r} s over $repeats runs"
 echo "coverage (cvc coverage, same path and walls): median ${c} s"
-printf 'coverage / fly-through: %.2f\n' "$(echo "$c / $r" | bc -l)"
+awk "BEGIN {printf \"coverage / fly-through: %.2f\\n\", $c / $r}"
 echo "the coverage run's own split (last run): $(/usr/bin/python3 -c "import json;print(json.load(open('$work/coverage/coverage.json'))['timing'])")"

@@ -18,7 +18,7 @@ mpirun=(mpirun -np 2 --oversubscribe --bind-to none)
 [ "$(id -u)" -eq 0 ] && mpirun+=(--allow-run-as-root)
 
 "$cvc" phantom --force -o "$work/colon.nrrd" >/dev/null
-seconds() { local start end; start=$(date +%s.%N); "$@" >/dev/null 2>&1; end=$(date +%s.%N); echo "$end - $start" | bc -l; }
+seconds() { local start end; start=$(date +%s.%N); "$@" >/dev/null 2>&1; end=$(date +%s.%N); awk "BEGIN {print $end - $start}"; }
 render=("$cvc" render "$work/colon.nrrd" --display ic5 --path "$work/colon.json" --force)
 "${render[@]}" --frames 1 -o "$work/warm" >/dev/null 2>&1  # the map into the cache
 
