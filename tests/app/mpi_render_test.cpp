@@ -47,11 +47,19 @@ const Fixture& fixture() {
     return f;
 }
 
+/// Frames 12 mm apart, or 3 mm apart for a run long enough to be killed half way.
+double stepFor(int frames) { return frames > 10 ? 3.0 : 12.0; }
+
 std::string renderArguments(const fs::path& out, int frames, const std::string& more = "") {
     const Fixture& f = fixture();
     return "render " + f.volume.string() + " --display " + f.display.string() + " --path " + f.truth.string() +
-           " --path-step 12 --frames " + std::to_string(frames) + " --map-size 64 --before-after --force -o " +
-           out.string() + " " + more;
+           " --path-step " + std::to_string(stepFor(frames)) + " --frames " + std::to_string(frames) +
+           " --map-size 64 --before-after --force -o " + out.string() + " " + more;
+}
+
+std::string frameName(int index) {
+    std::string name = std::to_string(index);
+    return "frame_" + std::string(4 - std::min<std::size_t>(4, name.size()), '0') + name;
 }
 
 /// Every regular file below `folder`, by its path relative to it, with its bytes.
@@ -157,13 +165,15 @@ TEST(CvcMpiPolypCheck, TwoRanksWriteWhatOneProcessWrites) {
 }
 
 TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
-    constexpr int kFrames = 8;
+    // Long enough (80 frames, some seconds) that the kill lands after the first frame and well
+    // before the last, on any machine this runs on.
+    constexpr int kFrames = 80;
     const fs::path out = testing_support::processTmp("mpi_killed");
     fs::remove_all(out);
     // Rank 1 is killed once the first frame is in place: find it by the rank Open MPI gave it.
     const fs::path killer = testing_support::processTmp("mpi_killer.sh");
     std::ofstream(killer) << "#!/bin/sh\n"
-                             "for i in $(seq 600); do [ -d '" << (out / "frame_0000").string() << "' ] && break; sleep 0.1; done\n"
+                             "for i in $(seq 3000); do [ -d '" << (out / "frame_0000").string() << "' ] && break; sleep 0.02; done\n"
                              "for p in $(pgrep -f -- '-o " << out.string() << " '); do\n"
                              "  if tr '\\0' '\\n' < /proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1; then kill -9 $p; fi\n"
                              "done\n";
@@ -174,14 +184,14 @@ TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
     EXPECT_NE(run.exitCode, 0);
     EXPECT_NE(run.err.find("rank 1"), std::string::npos) << run.err;
     int kept = 0;
-    for (int i = 0; i < kFrames; ++i) kept += fs::is_directory(out / ("frame_000" + std::to_string(i))) ? 1 : 0;
+    for (int i = 0; i < kFrames; ++i) kept += fs::is_directory(out / frameName(i)) ? 1 : 0;
     EXPECT_GE(kept, 1);
     EXPECT_LT(kept, kFrames) << "the run was not stopped before its end";
     std::string halfWritten;  // " 3 5": the hidden folders of frames being written when the job stopped
     for (int i = 0; i < kFrames; ++i) {
         // Appended piece by piece: GCC 12 warns (-Wrestrict) on "." + a + b.
-        std::string hidden = ".frame_000";
-        hidden += std::to_string(i);
+        std::string hidden = ".";
+        hidden += frameName(i);
         hidden += ".partial";
         if (!fs::exists(out / hidden)) continue;
         halfWritten += ' ';
@@ -190,8 +200,8 @@ TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
     // One process finishes the rest.
     const Fixture& f = fixture();
     const auto resumed = runCvc("render " + f.volume.string() + " --display " + f.display.string() + " --path " +
-                                f.truth.string() + " --path-step 12 --frames " + std::to_string(kFrames) +
-                                " --map-size 64 --before-after --resume -o " + out.string());
+                                f.truth.string() + " --path-step " + std::to_string(stepFor(kFrames)) + " --frames " +
+                                std::to_string(kFrames) + " --map-size 64 --before-after --resume -o " + out.string());
     ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
     EXPECT_NE(resumed.out.find("kept"), std::string::npos) << resumed.out;
     // The frames the killed job was writing (if it was killed while writing) are named.
