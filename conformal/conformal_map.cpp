@@ -2,12 +2,14 @@
 /// location: sphere mesh -> disk (barycentric), disk -> other sphere mesh (barycentric).
 #include "conformal/conformal_map.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <future>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include <glm/geometric.hpp>
 
@@ -48,13 +50,40 @@ glm::dvec3 sphereFromDisk(const DiskLocator& locator, const PlaneToSphereInterpo
                           location.barycentric.z * p[tri[2]]);
 }
 
+/// True when some triangle's disk image is not counter-clockwise (a fold-over).
+bool hasFoldedTriangle(const TriangleMesh& mesh, const std::vector<Complex>& disk) {
+    for (const auto& tri : mesh.triangles) {
+        const Complex a = disk[tri[1]] - disk[tri[0]];
+        const Complex b = disk[tri[2]] - disk[tri[0]];
+        if (a.real() * b.imag() - a.imag() * b.real() <= 0.0) return true;
+    }
+    return false;
+}
+
+/// The unit vector of a direction given at any finite, non-zero length. A zero or non-finite
+/// vector has no direction: followed into point location it found no triangle, and the
+/// display side then extended "from the ceiling" forever (unbounded recursion) while the scene
+/// side indexed triangle -1. Scaling by the largest component first keeps glm::normalize's
+/// squares from underflowing (below ~1e-154) or overflowing (above ~1e154), so F and G stay
+/// scale invariant over every finite length.
+glm::dvec3 unitDirection(const glm::dvec3& v, const char* what) {
+    const bool isFinite = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    const double largest = isFinite ? std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}) : 0.0;
+    if (!(largest > 0.0)) {
+        throw std::invalid_argument(std::string("conformal map: the ") + what +
+                                    " direction is zero or not finite");
+    }
+    return glm::normalize(v / largest);
+}
+
 }  // namespace
 
 ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(settings) {
     const auto start = std::chrono::steady_clock::now();
     validateCaveBox(settings.box);
     auto buildSide = [&settings](SphereDomain domain, SphereMesh& sphere, std::vector<Complex>& disk,
-                                 RiemannMapReport* report) {
+                                 RiemannMapReport* report, bool* isExtrapolated) {
+        *isExtrapolated = settings.isExtrapolated;
         sphere = buildSphereMesh(settings.box, domain, settings.mesh);
         if (!settings.isExtrapolated) {
             disk = diskOfSphere(sphere, settings.flow, report, nullptr);
@@ -71,12 +100,26 @@ ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(set
         const std::vector<double> guess = prolongFromCoarse(parents, coarseReport.vertexLogScale);
         const std::vector<Complex> fineDisk = diskOfSphere(sphere, settings.flow, report, &guess);
         disk = extrapolateFromCoarse(parents, fineDisk, coarseDisk);
+        // Richardson's step moves boundary values along chords of the circle, off it (2e-6 at
+        // the default resolution, 4e-3 on coarse graded meshes); a Riemann map's boundary is
+        // the unit circle, so they go back onto it.
+        const std::vector<char> isBoundary = boundaryVertexFlags(sphere.mesh, twinHalfEdges(sphere.mesh));
+        for (std::size_t v = 0; v < disk.size(); ++v) {
+            if (isBoundary[v] && std::abs(disk[v]) > 0.0) disk[v] /= std::abs(disk[v]);
+        }
+        // On strongly graded meshes (slivers under 0.1 degrees) the extrapolation, with that
+        // projection, folds triangles over (16 of Omega5's at grading 3, resolution 24): a map
+        // that is no longer one to one is worse than the plain flow's, which is kept instead.
+        if (hasFoldedTriangle(sphere.mesh, disk)) {
+            disk = fineDisk;
+            *isExtrapolated = false;
+        }
     };
     // The two sides are independent: mesh and flow them on two threads.
     auto sceneJob = std::async(std::launch::async, [&] {
-        buildSide(SphereDomain::Scene, mScene, mSceneDisk, &mReport.scene);
+        buildSide(SphereDomain::Scene, mScene, mSceneDisk, &mReport.scene, &mReport.isSceneExtrapolated);
     });
-    buildSide(SphereDomain::Display, mDisplay, mDisplayDisk, &mReport.display);
+    buildSide(SphereDomain::Display, mDisplay, mDisplayDisk, &mReport.display, &mReport.isDisplayExtrapolated);
     sceneJob.get();
 
     mSceneLocator = DiskLocator(mSceneDisk, mScene.mesh.triangles);
@@ -139,7 +182,8 @@ ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(set
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-Complex ConformalMap::diskFromDisplay(const glm::dvec3& display) const {
+Complex ConformalMap::diskFromDisplay(const glm::dvec3& displayVector) const {
+    const glm::dvec3 display = unitDirection(displayVector, "display");
     const MeshLocation location = locateDirection(mDisplay, display);
     if (location.triangle < 0) {
         throw std::domain_error("conformal map: the display direction is on the ceiling, "
@@ -156,7 +200,8 @@ Complex ConformalMap::displayDiskAt(const MeshLocation& location, const glm::dve
            location.barycentric.z * mDisplayDisk[tri[2]];
 }
 
-Complex ConformalMap::diskFromScene(const glm::dvec3& scene) const {
+Complex ConformalMap::diskFromScene(const glm::dvec3& sceneVector) const {
+    const glm::dvec3 scene = unitDirection(sceneVector, "scene");
     const MeshLocation location = locateDirection(mScene, scene);
     if (mIsSmooth) return mSceneForward.evaluate(location.triangle, location.barycentric, scene);
     const auto& tri = mScene.mesh.triangles[location.triangle];
@@ -173,14 +218,14 @@ glm::dvec3 ConformalMap::displayFromDisk(Complex zeta) const {
 }
 
 glm::dvec3 ConformalMap::sceneFromDisplay(const glm::dvec3& display) const {
-    const glm::dvec3 d = glm::normalize(display);
+    const glm::dvec3 d = unitDirection(display, "display");
     const MeshLocation location = locateDirection(mDisplay, d);
     if (location.triangle < 0) return ceilingExtension(d);
     return sceneFromDisk(displayDiskAt(location, d));
 }
 
 glm::dvec3 ConformalMap::displayFromScene(const glm::dvec3& scene) const {
-    return displayFromDisk(diskFromScene(glm::normalize(scene)));
+    return displayFromDisk(diskFromScene(scene));
 }
 
 glm::dvec3 ConformalMap::ceilingExtension(const glm::dvec3& display) const {

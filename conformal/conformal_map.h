@@ -39,6 +39,10 @@ struct ConformalMapReport {
     std::complex<double> sceneNadir{0.0};      ///< phi6 image of the floor centre
     std::complex<double> displayNadir{0.0};    ///< phi5 image of the floor centre
     double seconds = 0.0;                      ///< wall-clock time to build
+    /// Whether Richardson extrapolation was applied; false where it was not asked for or where
+    /// it folded triangles over (strongly graded meshes), and the plain flow's map was kept.
+    bool isSceneExtrapolated = true;
+    bool isDisplayExtrapolated = true;
 };
 
 class ConformalMap final : public DirectionMap {
@@ -49,6 +53,8 @@ public:
     ConformalMap(const ConformalMap&) = delete;
     ConformalMap& operator=(const ConformalMap&) = delete;
 
+    /// F and G take a direction at any finite, non-zero length; a zero or non-finite vector
+    /// throws std::invalid_argument (so do the two disk maps below).
     glm::dvec3 sceneFromDisplay(const glm::dvec3& display) const override;
     glm::dvec3 displayFromScene(const glm::dvec3& scene) const override;
 

@@ -200,14 +200,30 @@ CubeMap loadCubeMap(const std::filesystem::path& path) {
     } catch (const std::invalid_argument& error) {
         throw CubeMapFileError(name + "bad box in the header: " + error.what());
     }
+    // The header alone can claim up to 25 GiB of texels: compare with what the file holds
+    // before allocating, so a short file is refused instead of exhausting memory.
+    in.seekg(0, std::ios::end);
+    const std::streamoff fileBytes = in.tellg();
+    in.seekg(static_cast<std::streamoff>(sizeof(header)), std::ios::beg);
+    if (fileBytes < 0 || !in) throw CubeMapFileError(name + "cannot determine the file's size");
+    const std::uint64_t texelBytes = static_cast<std::uint64_t>(fileBytes) - sizeof(header);
+    if (texelBytes < payload) {
+        throw CubeMapFileError(name + "truncated texel data (" + std::to_string(texelBytes) + " of " +
+                               std::to_string(payload) + " bytes)");
+    }
+    if (texelBytes > payload) throw CubeMapFileError(name + "unexpected bytes after the texel data");
     map.rgba.resize(payload / sizeof(float));
     in.read(reinterpret_cast<char*>(map.rgba.data()), static_cast<std::streamsize>(payload));
     if (static_cast<std::uint64_t>(in.gcount()) != payload) {
         throw CubeMapFileError(name + "truncated texel data (" + std::to_string(in.gcount()) +
                                " of " + std::to_string(payload) + " bytes)");
     }
-    if (in.peek() != std::ifstream::traits_type::eof()) {
-        throw CubeMapFileError(name + "unexpected bytes after the texel data");
+    // A NaN or infinite texel would bend rays into NaN directions far from the file that caused it.
+    const auto bad = std::find_if(map.rgba.begin(), map.rgba.end(), [](float v) { return !std::isfinite(v); });
+    if (bad != map.rgba.end()) {
+        const std::size_t index = static_cast<std::size_t>(bad - map.rgba.begin());
+        throw CubeMapFileError(name + "texel data hold a non-finite value (float " + std::to_string(index) + " of " +
+                               std::to_string(map.rgba.size()) + ")");
     }
     return map;
 }

@@ -78,7 +78,8 @@ glm::vec4 sampleCubeMapBilinear(const CubeMap& map, const glm::dvec3& direction)
 void saveCubeMap(const CubeMap& map, const std::filesystem::path& path);
 /// Reads and checks a file written by saveCubeMap; throws CubeMapFileError naming the file and
 /// the problem (missing, wrong magic, unsupported version, bad size, a map kind other than
-/// conformal or linear, truncated, trailing bytes).
+/// conformal or linear, truncated, trailing bytes, non-finite texels). The file size is checked
+/// against the header before the texels are allocated.
 CubeMap loadCubeMap(const std::filesystem::path& path);
 
 }  // namespace conformal

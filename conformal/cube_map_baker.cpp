@@ -21,7 +21,9 @@ namespace conformal {
 namespace {
 
 /// Bumped whenever the map's construction or the bake changes, so old cache files miss.
-constexpr const char* kAlgorithmVersion = "conformal-vc bake 1";
+// 2: the Riemann map's hole fill keeps clear of the boundary, and extrapolated boundary values
+// are put back on the unit circle (cached bakes of version 1 are rebuilt).
+constexpr const char* kAlgorithmVersion = "conformal-vc bake 2";
 constexpr int kMaxBakeSize = 8192;
 
 /// MapKind::None asks for no bending, so there is no map to bake: refuse it before any work.

@@ -56,8 +56,10 @@ DiskLocator::DiskLocator(const std::vector<std::complex<double>>& points,
 }
 
 int DiskLocator::binIndex(double x, double y) const {
-    const int i = std::clamp(static_cast<int>((x - mLow) / mBinSize), 0, mBinsPerSide - 1);
-    const int j = std::clamp(static_cast<int>((y - mLow) / mBinSize), 0, mBinsPerSide - 1);
+    // Clamped before the conversion: a point far outside the disk would overflow int (UB).
+    const double last = mBinsPerSide - 1;
+    const int i = static_cast<int>(std::clamp((x - mLow) / mBinSize, 0.0, last));
+    const int j = static_cast<int>(std::clamp((y - mLow) / mBinSize, 0.0, last));
     return j * mBinsPerSide + i;
 }
 
@@ -65,6 +67,8 @@ DiskLocation DiskLocator::locate(std::complex<double> z) const {
     const auto& points = *mPoints;
     const auto& triangles = *mTriangles;
     DiskLocation best;
+    // Not a point: no triangle holds it (and NaN must not reach the bin index's conversion).
+    if (!std::isfinite(z.real()) || !std::isfinite(z.imag())) return best;
     double bestMin = -1e300;
     auto test = [&](int bin) {
         for (int k = mBinOffsets[bin]; k < mBinOffsets[bin + 1]; ++k) {

@@ -131,6 +131,7 @@ std::vector<Complex> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
                                  " is not a vertex of the mesh");
     }
 
+    if (!std::isfinite(holeAngle)) throw std::invalid_argument("Riemann map: the hole angle is not a finite number");
     // Punch the hole: the vertices within holeAngle of the centre (at least the centre).
     const glm::dvec3 centre = glm::normalize(mesh.positions[centreVertex]);
     const double spacing = meanNeighbourAngle(mesh, centreVertex);
@@ -330,11 +331,13 @@ std::vector<Complex> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
     }
     out.outerRadiusError = 0.0;
     double innerRadiusSum = 0.0;
+    double boundaryAngle = std::numbers::pi;  // from the centre to the nearest outer-boundary vertex
     for (int v = 0; v < vertexCount; ++v) {
         if (copies[v] > 0) disk[v] /= static_cast<double>(copies[v]);
         if (isHole[v]) continue;
         const int f = flowIndex[v];
         if (isBoundary[f] && !isInner[f]) {
+            boundaryAngle = std::min(boundaryAngle, angleBetween(centre, mesh.positions[v]));
             out.outerRadiusError = std::max(out.outerRadiusError, std::abs(std::abs(disk[v]) - 1.0));
         } else if (isInner[f]) {
             innerRadiusSum += std::abs(disk[v]);
@@ -344,9 +347,20 @@ std::vector<Complex> diskFromMesh(const TriangleMesh& mesh, int centreVertex,
     for (int v = 0; v < flowCount; ++v) ringCount += isInner[v];
     out.innerRadius = innerRadiusSum / std::max(ringCount, 1);
     disk[centreVertex] = Complex(0.0, 0.0);
-    fillHole(mesh, centre, std::max(kFilledSpacings * spacing, 1.5 * holeRadians),
-             std::max(kBlendedSpacings * spacing, 2.5 * holeRadians),
-             std::max(kFittedSpacings * spacing, 3.0 * holeRadians), isHole, disk);
+    // The fill's zones stay clear of the outer boundary: measured in mesh spacings at the centre
+    // they reached it on strongly graded meshes (coarse cells at the face centres) and for large
+    // holes, and the polynomial then moved boundary values up to 2 % off the unit circle. Capped
+    // at fractions of the centre's distance to the boundary; a hole too large to leave room for
+    // the fill is refused.
+    const double filled = std::min(std::max(kFilledSpacings * spacing, 1.5 * holeRadians), 0.5 * boundaryAngle);
+    const double blended = std::min(std::max(kBlendedSpacings * spacing, 2.5 * holeRadians), 0.75 * boundaryAngle);
+    const double fitted = std::min(std::max(kFittedSpacings * spacing, 3.0 * holeRadians), 0.9 * boundaryAngle);
+    if (!(filled > holeRadians)) {
+        throw std::runtime_error("Riemann map: a hole of " + std::to_string(holeRadians) +
+                                 " rad leaves no room to fill it before the boundary, " +
+                                 std::to_string(boundaryAngle) + " rad from the centre");
+    }
+    fillHole(mesh, centre, filled, blended, fitted, isHole, disk);
     return disk;
 }
 

@@ -2,10 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <map>
 #include <sstream>
 
@@ -18,6 +16,7 @@
 #include <gdcmTag.h>
 #include <gdcmTrace.h>
 
+#include "volumes/dicom_series_check.h"
 #include "volumes/voxel_decode.h"
 
 namespace volumes {
@@ -31,16 +30,6 @@ const gdcm::Tag kColumns(0x0028, 0x0011);
 
 /// A folder with more files than this is not one CT study.
 constexpr std::size_t kMaxFiles = 100000;
-/// Direction cosines of different slices agree when within this (unitless).
-constexpr double kOrientationTolerance = 1e-4;
-/// Slice gaps may differ from their mean by this fraction (rounded positions) before the
-/// series counts as unevenly spaced.
-constexpr double kGapTolerance = 0.01;
-/// A slice may sit off the line through the first slice along the normal by this fraction of
-/// the in-plane spacing before the series counts as tilted: below it the grid error is
-/// invisible next to the voxel size.
-constexpr double kTiltLateralTolerance = 0.25;
-
 [[noreturn]] void fail(const std::string& where, const std::string& problem) {
     throw VolumeError(where + ": " + problem);
 }
@@ -64,15 +53,8 @@ std::string trimmed(const char* text) {
     return s;
 }
 
-struct SliceFile {
-    std::string path;
-    glm::dvec3 positionLps{0.0};
-    glm::dvec3 rowLps{1, 0, 0}, columnLps{0, 1, 0};
-    double distanceMm = 0.0;  ///< position projected on the slice normal
-};
-
 /// All readable image files in `folder`, grouped by series UID.
-std::map<std::string, std::vector<SliceFile>> scanFolder(const std::string& folder) {
+std::map<std::string, std::vector<DicomSlice>> scanFolder(const std::string& folder) {
     std::error_code error;
     if (!std::filesystem::is_directory(folder, error))
         fail(folder, "is not a folder (a DICOM series is read from a folder)");
@@ -89,10 +71,10 @@ std::map<std::string, std::vector<SliceFile>> scanFolder(const std::string& fold
     for (const gdcm::Tag& tag : {kSeriesUid, kImagePosition, kImageOrientation, kRows, kColumns}) scanner.AddTag(tag);
     if (!scanner.Scan(files)) fail(folder, "GDCM could not scan the folder's files");
 
-    std::map<std::string, std::vector<SliceFile>> series;
+    std::map<std::string, std::vector<DicomSlice>> series;
     for (const std::string& path : files) {
         if (!scanner.IsKey(path.c_str())) continue;
-        SliceFile slice;
+        DicomSlice slice;
         slice.path = path;
         double position[3], orientation[6];
         if (!parseDecimals(scanner.GetValue(path.c_str(), kImagePosition), 3, position) ||
@@ -112,107 +94,32 @@ std::map<std::string, std::vector<SliceFile>> scanFolder(const std::string& fold
     return series;
 }
 
-/// Orders slices along the normal and checks that they form one regular grid. Returns the
-/// slice spacing in mm.
-double sortAndCheckSlices(const std::string& folder, std::vector<SliceFile>& slices, glm::dvec3& normal,
-                          double inPlaneSpacingMm) {
-    const SliceFile& first = slices.front();
-    const double rowLength = glm::length(first.rowLps), columnLength = glm::length(first.columnLps);
-    if (std::abs(rowLength - 1.0) > 1e-2 || std::abs(columnLength - 1.0) > 1e-2 ||
-        std::abs(glm::dot(first.rowLps, first.columnLps)) > 1e-2) {
-        fail(first.path, "ImageOrientationPatient is not two orthogonal unit vectors");
-    }
-    const glm::dvec3 row = glm::normalize(first.rowLps), column = glm::normalize(first.columnLps);
-    normal = glm::normalize(glm::cross(row, column));
-    for (SliceFile& slice : slices) {
-        if (glm::length(slice.rowLps - first.rowLps) > kOrientationTolerance ||
-            glm::length(slice.columnLps - first.columnLps) > kOrientationTolerance) {
-            fail(slice.path, "ImageOrientationPatient differs from that of " + first.path +
-                                 " (one series must share one orientation)");
-        }
-        slice.distanceMm = glm::dot(normal, slice.positionLps);
-    }
-    std::sort(slices.begin(), slices.end(),
-              [](const SliceFile& a, const SliceFile& b) { return a.distanceMm < b.distanceMm; });
-    if (slices.size() < 2) return 0.0;
-
-    const double spanMm = slices.back().distanceMm - slices.front().distanceMm;
-    const double spacingMm = spanMm / static_cast<double>(slices.size() - 1);
-    // Duplicates first: they would otherwise read as uneven spacing.
-    for (std::size_t k = 1; k < slices.size(); ++k) {
-        if (slices[k].distanceMm - slices[k - 1].distanceMm < 1e-3) {
-            fail(folder, slices[k - 1].path + " and " + slices[k].path +
-                             " lie at the same position along the slice normal (several acquisitions in one "
-                             "series? pass the series or split the folder)");
-        }
-    }
-    for (std::size_t k = 1; k < slices.size(); ++k) {
-        const double gap = slices[k].distanceMm - slices[k - 1].distanceMm;
-        if (std::abs(gap - spacingMm) > kGapTolerance * spacingMm) {
-            std::ostringstream msg;
-            msg << "uneven slice spacing: " << gap << " mm between " << slices[k - 1].path << " and " << slices[k].path
-                << ", mean " << spacingMm << " mm (missing slice or variable-thickness "
-                << "scan; resample it to a regular grid first)";
-            fail(folder, msg.str());
-        }
-    }
-    // Gantry tilt: slice origins leave the line along the normal through the first one.
-    for (const SliceFile& slice : slices) {
-        const glm::dvec3 offset = slice.positionLps - slices.front().positionLps;
-        const glm::dvec3 lateral = offset - glm::dot(offset, normal) * normal;
-        if (glm::length(lateral) > kTiltLateralTolerance * inPlaneSpacingMm) {
-            const double degrees =
-                std::atan2(glm::length(lateral), std::abs(glm::dot(offset, normal))) * 180.0 / 3.14159265358979;
-            std::ostringstream msg;
-            msg << "slices are sheared (gantry tilt of about " << degrees << " degrees: " << slice.path << " sits "
-                << glm::length(lateral) << " mm off the slice normal); resample the series "
-                << "to an orthogonal grid first";
-            fail(folder, msg.str());
-        }
-    }
-    return spacingMm;
-}
-
-/// Stored-value format of a slice as GDCM hands out its buffer.
-StoredFormat formatOf(const std::string& path, const gdcm::Image& image) {
+/// The values of one decoded image that the series checks need (dicom_series_check.h).
+DicomImageValues imageValues(const gdcm::Image& image) {
+    DicomImageValues values;
+    values.numberOfDimensions = image.GetNumberOfDimensions();
+    const unsigned int* dims = image.GetDimensions();
+    values.dims = {dims[0], dims[1], values.numberOfDimensions == 3 ? dims[2] : 1u};
+    values.spacingMm = {image.GetSpacing(0), image.GetSpacing(1), image.GetSpacing(2)};
     const gdcm::PixelFormat& pixel = image.GetPixelFormat();
-    if (pixel.GetSamplesPerPixel() != 1) {
-        fail(path, "has " + std::to_string(pixel.GetSamplesPerPixel()) + " samples per pixel, expected 1 (grey CT)");
-    }
-    StoredFormat format;
+    values.samplesPerPixel = pixel.GetSamplesPerPixel();
     switch (pixel.GetScalarType()) {
-        case gdcm::PixelFormat::UINT8: format.type = ScalarType::UInt8; break;
-        case gdcm::PixelFormat::INT8: format.type = ScalarType::Int8; break;
-        case gdcm::PixelFormat::UINT16: format.type = ScalarType::UInt16; break;
-        case gdcm::PixelFormat::INT16: format.type = ScalarType::Int16; break;
-        case gdcm::PixelFormat::UINT32: format.type = ScalarType::UInt32; break;
-        case gdcm::PixelFormat::INT32: format.type = ScalarType::Int32; break;
-        case gdcm::PixelFormat::FLOAT32: format.type = ScalarType::Float32; break;
-        case gdcm::PixelFormat::FLOAT64: format.type = ScalarType::Float64; break;
-        default:
-            fail(path, std::string("pixel format ") + pixel.GetScalarTypeAsString() +
-                           " is not supported (expected 8, 16 or 32-bit integers)");
+        case gdcm::PixelFormat::UINT8: values.type = ScalarType::UInt8; break;
+        case gdcm::PixelFormat::INT8: values.type = ScalarType::Int8; break;
+        case gdcm::PixelFormat::UINT16: values.type = ScalarType::UInt16; break;
+        case gdcm::PixelFormat::INT16: values.type = ScalarType::Int16; break;
+        case gdcm::PixelFormat::UINT32: values.type = ScalarType::UInt32; break;
+        case gdcm::PixelFormat::INT32: values.type = ScalarType::Int32; break;
+        case gdcm::PixelFormat::FLOAT32: values.type = ScalarType::Float32; break;
+        case gdcm::PixelFormat::FLOAT64: values.type = ScalarType::Float64; break;
+        default: break;
     }
-    format.slope = image.GetSlope();
-    format.intercept = image.GetIntercept();
-    return format;
-}
-
-/// Clears bits above BitsStored and sign-extends signed values, so overlay bits or padding
-/// in the unused high bits of a 16-bit container cannot reach the HU values.
-void maskStoredBits(const gdcm::PixelFormat& pixel, ScalarType type, std::vector<char>& buffer) {
-    const unsigned bitsStored = pixel.GetBitsStored();
-    if (type != ScalarType::UInt16 && type != ScalarType::Int16) return;
-    if (bitsStored == 0 || bitsStored >= 16) return;
-    const auto mask = static_cast<uint16_t>((1u << bitsStored) - 1u);
-    const auto sign = static_cast<uint16_t>(1u << (bitsStored - 1u));
-    for (std::size_t i = 0; i + 1 < buffer.size(); i += 2) {
-        uint16_t v;
-        std::memcpy(&v, buffer.data() + i, 2);
-        v = static_cast<uint16_t>(v & mask);
-        if (type == ScalarType::Int16 && (v & sign)) v = static_cast<uint16_t>(v | ~mask);
-        std::memcpy(buffer.data() + i, &v, 2);
-    }
+    values.typeName = pixel.GetScalarTypeAsString();
+    values.bitsStored = pixel.GetBitsStored();
+    values.slope = image.GetSlope();
+    values.intercept = image.GetIntercept();
+    values.bufferBytes = image.GetBufferLength();
+    return values;
 }
 
 /// Reads one file. GDCM accepts a file whose native pixel data end early (it only warns), so
@@ -248,7 +155,7 @@ Volume readDicomSeries(const std::string& folder, const std::string& seriesUid) 
     auto series = scanFolder(folder);
 
     // Pick the series.
-    std::vector<SliceFile>* slices = nullptr;
+    std::vector<DicomSlice>* slices = nullptr;
     if (!seriesUid.empty()) {
         const auto it = series.find(seriesUid);
         if (it == series.end()) fail(folder, "holds no series with SeriesInstanceUID " + seriesUid);
@@ -275,24 +182,7 @@ Volume readDicomSeries(const std::string& folder, const std::string& seriesUid) 
     // One slice fixes the in-plane grid every other slice must share.
     gdcm::ImageReader firstReader;
     readImage(slices->front().path, firstReader);
-    const gdcm::Image& firstImage = firstReader.GetImage();
-    const unsigned int* firstDims = firstImage.GetDimensions();
-    if (firstImage.GetNumberOfDimensions() == 3 && firstDims[2] > 1) {
-        fail(slices->front().path, "is a multi-frame image (" + std::to_string(firstDims[2]) +
-                                       " frames); only series stored one slice per file are supported");
-    }
-
-    Volume volume;
-    volume.dims = {static_cast<int>(firstDims[0]), static_cast<int>(firstDims[1]), static_cast<int>(slices->size())};
-    volume.spacingMm = {firstImage.GetSpacing(0), firstImage.GetSpacing(1), firstImage.GetSpacing(2)};
-    glm::dvec3 normal{0, 0, 1};
-    const double sliceSpacing =
-        sortAndCheckSlices(folder, *slices, normal, std::min(volume.spacingMm.x, volume.spacingMm.y));
-    if (slices->size() > 1) volume.spacingMm.z = sliceSpacing;
-    const SliceFile& first = slices->front();
-    volume.originLps = first.positionLps;
-    volume.directionLps = glm::dmat3(glm::normalize(first.rowLps), glm::normalize(first.columnLps), normal);
-    validateGeometry(volume, folder);
+    Volume volume = dicomSeriesGrid(folder, imageValues(firstReader.GetImage()), *slices);
 
     // Voxels: one slice at a time into the volume.
     volume.hu.resize(volume.voxelCount());
@@ -300,33 +190,19 @@ Volume readDicomSeries(const std::string& folder, const std::string& seriesUid) 
     std::vector<char> buffer;
     const std::size_t fileCount = slices->size();
     for (std::size_t k = 0; k < fileCount; ++k) {
-        const SliceFile& slice = (*slices)[k];
+        const DicomSlice& slice = (*slices)[k];
         gdcm::ImageReader reader;
         readImage(slice.path, reader);
         const gdcm::Image& image = reader.GetImage();
-        const unsigned int* dims = image.GetDimensions();
-        if (dims[0] != firstDims[0] || dims[1] != firstDims[1]) {
-            fail(slice.path, "is " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) +
-                                 " pixels, the series' first slice " + std::to_string(firstDims[0]) + "x" +
-                                 std::to_string(firstDims[1]));
-        }
-        if (std::abs(image.GetSpacing(0) - volume.spacingMm.x) > 1e-4 ||
-            std::abs(image.GetSpacing(1) - volume.spacingMm.y) > 1e-4) {
-            fail(slice.path, "PixelSpacing differs from the series' first slice");
-        }
-        const StoredFormat format = formatOf(slice.path, image);
-        const std::size_t expectedBytes = sliceVoxels * bytesPerValue(format.type);
-        if (image.GetBufferLength() != expectedBytes) {
-            fail(slice.path, "pixel data decodes to " + std::to_string(image.GetBufferLength()) + " bytes, expected " +
-                                 std::to_string(expectedBytes));
-        }
-        buffer.resize(expectedBytes);
+        const DicomImageValues values = imageValues(image);
+        const StoredFormat format = dicomSliceFormat(slice.path, volume, values);
+        buffer.resize(values.bufferBytes);
         if (!image.GetBuffer(buffer.data())) {
             fail(slice.path, "GDCM cannot decode its pixel data (transfer syntax unsupported or data corrupt)");
         }
-        maskStoredBits(image.GetPixelFormat(), format.type, buffer);
-        huFromStored(slice.path, format, reinterpret_cast<const unsigned char*>(buffer.data()),
-                     std::span<int16_t>(volume.hu).subspan(k * sliceVoxels, sliceVoxels));
+        const std::span<unsigned char> bytes(reinterpret_cast<unsigned char*>(buffer.data()), buffer.size());
+        maskStoredBits(values.bitsStored, format.type, bytes);
+        huFromStored(slice.path, format, bytes.data(), std::span<int16_t>(volume.hu).subspan(k * sliceVoxels, sliceVoxels));
     }
     validateVolume(volume, folder);
     return volume;

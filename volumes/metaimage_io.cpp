@@ -198,15 +198,18 @@ Volume readMetaImage(const std::string& path) {
         data = &separate;
     }
 
-    volume.hu.resize(volume.voxelCount());
     if (header.isCompressed) {
+        volume.hu.resize(volume.voxelCount());  // compressed data cannot be sized before inflating
         readCompressedHu(dataPath, *data, header.format, volume.hu);
     } else {
+        // Checked before the voxels are allocated: a short file whose header asks for 2 GiB
+        // must be called truncated, not fail the allocation.
         if (dataBytesAvailable != rawBytes) {
             fail(dataPath, "holds " + std::to_string(dataBytesAvailable) +
                                " bytes of voxel data, the header's DimSize and ElementType call for " +
                                std::to_string(rawBytes) + (dataBytesAvailable < rawBytes ? " (truncated file?)" : ""));
         }
+        volume.hu.resize(volume.voxelCount());
         readRawHu(dataPath, *data, header.format, volume.hu);
     }
     validateVolume(volume, path);

@@ -267,8 +267,9 @@ Volume readNrrd(const std::string& path) {
     StoredFormat format;
     format.type = header.type;
     format.isBigEndian = header.isBigEndian;
-    volume.hu.resize(volume.voxelCount());
     if (header.encoding == "raw") {
+        // Checked before the voxels are allocated: a 100-byte file whose header asks for 2 GiB
+        // must be called truncated, not fail the allocation.
         const std::uint64_t availableBytes = fileBytes - position;
         if (availableBytes != expectedBytes) {
             fail(dataPath, "holds " + std::to_string(availableBytes) +
@@ -276,9 +277,11 @@ Volume readNrrd(const std::string& path) {
                                std::to_string(expectedBytes) +
                                (availableBytes < expectedBytes ? " (truncated file?)" : ""));
         }
+        volume.hu.resize(volume.voxelCount());
         readRawHu(dataPath, *data, format, volume.hu);
     } else {
         if (position >= fileBytes) fail(dataPath, "has no voxel data after the header");
+        volume.hu.resize(volume.voxelCount());  // compressed data cannot be sized before inflating
         readCompressedHu(dataPath, *data, format, volume.hu);
     }
     validateVolume(volume, path);

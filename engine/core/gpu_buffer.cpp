@@ -13,9 +13,7 @@ GpuBuffer::GpuBuffer(const GpuContext& context, vk::DeviceSize sizeBytes, vk::Bu
     const auto properties = memory == Memory::HostVisible
                                 ? vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent
                                 : vk::MemoryPropertyFlags(vk::MemoryPropertyFlagBits::eDeviceLocal);
-    mMemory = vk::raii::DeviceMemory(
-        context.device(),
-        vk::MemoryAllocateInfo(requirements.size, context.findMemoryType(requirements.memoryTypeBits, properties)));
+    mMemory = context.allocateMemory(requirements, properties, debugName);
     mBuffer.bindMemory(*mMemory, 0);
     if (memory == Memory::HostVisible) mMapped = mMemory.mapMemory(0, VK_WHOLE_SIZE);
     context.setDebugName(mBuffer, debugName);

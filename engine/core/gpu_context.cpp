@@ -1,5 +1,6 @@
 #include "engine/core/gpu_context.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -192,6 +193,36 @@ uint32_t GpuContext::findMemoryType(uint32_t typeBits, vk::MemoryPropertyFlags p
         if ((typeBits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & properties) == properties) return i;
     }
     throw std::runtime_error("no Vulkan memory type with the required properties on " + mDeviceName);
+}
+
+vk::DeviceSize GpuContext::largestAllocationBytes(vk::MemoryPropertyFlags properties) const {
+    const auto memory = mPhysicalDevice.getMemoryProperties();
+    const uint32_t type = findMemoryType(~0u, properties);
+    const vk::DeviceSize heapBytes = memory.memoryHeaps[memory.memoryTypes[type].heapIndex].size;
+    // Vulkan 1.1 (which the context requires) reports the largest single allocation.
+    const auto chain = mPhysicalDevice.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceMaintenance3Properties>();
+    const vk::DeviceSize allocationBytes = chain.get<vk::PhysicalDeviceMaintenance3Properties>().maxMemoryAllocationSize;
+    return allocationBytes > 0 ? std::min(heapBytes, allocationBytes) : heapBytes;
+}
+
+vk::raii::DeviceMemory GpuContext::allocateMemory(const vk::MemoryRequirements& requirements,
+                                                  vk::MemoryPropertyFlags properties, const std::string& what) const {
+    const vk::DeviceSize largest = largestAllocationBytes(properties);
+    const auto mib = [](vk::DeviceSize bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; };
+    if (requirements.size > largest) {
+        throw DeviceMemoryError(what + " needs " + mib(requirements.size) + " in one allocation, more than the " +
+                                    mib(largest) + " that " + mDeviceName + " allows",
+                                largest);
+    }
+    try {
+        return vk::raii::DeviceMemory(
+            mDevice, vk::MemoryAllocateInfo(requirements.size, findMemoryType(requirements.memoryTypeBits, properties)));
+    } catch (const vk::OutOfDeviceMemoryError&) {
+        throw DeviceMemoryError(what + ": " + mDeviceName + " has not " + mib(requirements.size) + " of memory free",
+                                largest);
+    } catch (const vk::OutOfHostMemoryError&) {
+        throw DeviceMemoryError(what + ": the host has not " + mib(requirements.size) + " of memory free", largest);
+    }
 }
 
 void GpuContext::setDebugNameRaw(vk::ObjectType type, uint64_t handle, const std::string& name) const {

@@ -39,6 +39,18 @@ private:
     std::vector<std::string> mErrors;
 };
 
+/// Device memory that cannot be had: more than the device allows in one allocation, or more than
+/// it has free. `largestBytes` is what one allocation may have, for a message saying what would fit.
+class DeviceMemoryError : public std::runtime_error {
+public:
+    DeviceMemoryError(const std::string& message, vk::DeviceSize largestBytes)
+        : std::runtime_error(message), mLargestBytes(largestBytes) {}
+    [[nodiscard]] vk::DeviceSize largestBytes() const { return mLargestBytes; }
+
+private:
+    vk::DeviceSize mLargestBytes;
+};
+
 /// Owns the Vulkan objects in creation order, so they are destroyed in reverse.
 /// Every Vulkan call goes through vulkan_raii.hpp, which throws vk::SystemError (carrying the
 /// VkResult and the call's name) on any failure.
@@ -66,6 +78,16 @@ public:
 
     /// Index of a memory type allowed by `typeBits` with all `properties`; throws if none.
     [[nodiscard]] uint32_t findMemoryType(uint32_t typeBits, vk::MemoryPropertyFlags properties) const;
+
+    /// The most bytes one allocation of memory with `properties` may have on this device: the
+    /// smaller of its heap and the driver's maxMemoryAllocationSize (2 GiB on lavapipe).
+    [[nodiscard]] vk::DeviceSize largestAllocationBytes(vk::MemoryPropertyFlags properties) const;
+
+    /// Memory for `requirements` with `properties`. A request larger than largestAllocationBytes,
+    /// or one the driver cannot satisfy, throws DeviceMemoryError naming `what`, the bytes asked
+    /// and the bytes the device allows, instead of a bare VkResult.
+    [[nodiscard]] vk::raii::DeviceMemory allocateMemory(const vk::MemoryRequirements& requirements,
+                                                        vk::MemoryPropertyFlags properties, const std::string& what) const;
 
     /// Gives a Vulkan object a name that validation messages then use instead of a handle.
     template <typename Handle>

@@ -8,35 +8,33 @@
 namespace engine {
 namespace {
 
-vk::ImageCreateInfo imageInfo(vk::Extent3D extent, vk::Format format, vk::ImageUsageFlags usage, bool isCube) {
+vk::ImageCreateInfo imageInfo(vk::Extent3D extent, vk::Format format, vk::ImageUsageFlags usage, bool isCube,
+                              bool isVolume) {
     return vk::ImageCreateInfo(isCube ? vk::ImageCreateFlagBits::eCubeCompatible : vk::ImageCreateFlags{},
-                               extent.depth > 1 ? vk::ImageType::e3D : vk::ImageType::e2D, format, extent, 1,
+                               isVolume || extent.depth > 1 ? vk::ImageType::e3D : vk::ImageType::e2D, format, extent, 1,
                                isCube ? 6 : 1, vk::SampleCountFlagBits::e1, vk::ImageTiling::eOptimal, usage,
                                vk::SharingMode::eExclusive, {}, vk::ImageLayout::eUndefined);
 }
 
-vk::ImageViewType viewTypeOf(vk::Extent3D extent, bool isCube) {
+vk::ImageViewType viewTypeOf(vk::Extent3D extent, bool isCube, bool isVolume) {
     if (isCube) return vk::ImageViewType::eCube;
-    return extent.depth > 1 ? vk::ImageViewType::e3D : vk::ImageViewType::e2D;
+    return isVolume || extent.depth > 1 ? vk::ImageViewType::e3D : vk::ImageViewType::e2D;
 }
 
 }  // namespace
 
 GpuImage::GpuImage(const GpuContext& context, vk::Extent3D extent, vk::Format format, vk::ImageUsageFlags usage,
-                   const std::string& debugName, bool isCube)
+                   const std::string& debugName, bool isCube, bool isVolume)
     : mExtent(extent),
       mFormat(format),
       mLayerCount(isCube ? 6 : 1),
-      mImage(context.device(), imageInfo(extent, format, usage, isCube)) {
+      mImage(context.device(), imageInfo(extent, format, usage, isCube, isVolume)) {
     const auto requirements = mImage.getMemoryRequirements();
-    mMemory = vk::raii::DeviceMemory(
-        context.device(),
-        vk::MemoryAllocateInfo(requirements.size, context.findMemoryType(requirements.memoryTypeBits,
-                                                                         vk::MemoryPropertyFlagBits::eDeviceLocal)));
+    mMemory = context.allocateMemory(requirements, vk::MemoryPropertyFlagBits::eDeviceLocal, debugName);
     mImage.bindMemory(*mMemory, 0);
     mView = vk::raii::ImageView(
         context.device(),
-        vk::ImageViewCreateInfo({}, *mImage, viewTypeOf(extent, isCube), format, {},
+        vk::ImageViewCreateInfo({}, *mImage, viewTypeOf(extent, isCube, isVolume), format, {},
                                 vk::ImageSubresourceRange(vk::ImageAspectFlagBits::eColor, 0, 1, 0, mLayerCount)));
     context.setDebugName(mImage, debugName);
 }

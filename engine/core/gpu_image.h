@@ -13,8 +13,10 @@ class GpuImage {
 public:
     /// Creates a device-local image of `extent` (depth 1 for 2D) and a view of all of it.
     /// `isCube` makes a cube map: six square 2D layers in Vulkan face order, viewed as a cube.
+    /// `isVolume` makes a 3D image and view whatever the depth: a volume of one slice is still
+    /// read through a sampler3D, and binding a 2D view there is invalid.
     GpuImage(const GpuContext& context, vk::Extent3D extent, vk::Format format, vk::ImageUsageFlags usage,
-             const std::string& debugName, bool isCube = false);
+             const std::string& debugName, bool isCube = false, bool isVolume = false);
 
     [[nodiscard]] const vk::raii::Image& image() const { return mImage; }
     [[nodiscard]] const vk::raii::ImageView& view() const { return mView; }

@@ -1,8 +1,10 @@
 #include "engine/display/display_json.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -28,10 +30,30 @@ double numberField(const json& document, const char* key, double fallback) {
     return document[key].get<double>();
 }
 
+/// A pixel count: a whole number that fits an int. Converting a larger or fractional JSON number
+/// to int would be undefined or would silently drop its fraction, so both are refused here;
+/// validateDisplay then checks the range a wall may have.
+int pixelField(const json& wall, const char* key, int fallback) {
+    if (!wall.contains(key)) return fallback;
+    const json& value = wall[key];
+    const bool isWhole = value.is_number() && value.get<double>() == std::floor(value.get<double>()) &&
+                         value.get<double>() >= std::numeric_limits<int>::min() &&
+                         value.get<double>() <= std::numeric_limits<int>::max();
+    if (!isWhole) {
+        throw std::runtime_error("wall '" + wall["name"].get<std::string>() + "': \"" + key +
+                                 "\" must be a whole number of pixels, not " + value.dump());
+    }
+    return static_cast<int>(value.get<double>());
+}
+
 Display displayFromJson(const json& document) {
     if (!document.is_object()) throw std::runtime_error("the top level must be an object");
     Display display;
-    display.name = document.value("name", std::string("custom"));
+    display.name = "custom";
+    if (document.contains("name")) {
+        if (!document["name"].is_string()) throw std::runtime_error("\"name\" must be a string");
+        display.name = document["name"].get<std::string>();
+    }
     display.boxSizeM = vec3Field(document, "box_size_m", display.boxSizeM);
     display.eyeSeparationM = numberField(document, "eye_separation_m", display.eyeSeparationM);
     display.headPositionM = vec3Field(document, "head_position_m", display.headPositionM);
@@ -50,8 +72,8 @@ Display displayFromJson(const json& document) {
         }
         DisplayWall entry;
         entry.name = wallNameFromText(wall["name"].get<std::string>());
-        entry.width = static_cast<int>(numberField(wall, "width", entry.width));
-        entry.height = static_cast<int>(numberField(wall, "height", entry.height));
+        entry.width = pixelField(wall, "width", entry.width);
+        entry.height = pixelField(wall, "height", entry.height);
         display.walls.push_back(entry);
     }
     return display;

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "engine/display/display.h"
+#include "engine/display/display_description.h"
 
 namespace engine {
 

@@ -10,6 +10,8 @@ namespace {
 
 constexpr vk::DeviceSize kSlabBytes = 32u << 20;
 
+/// The image's extent; a volume larger than the device's image limit or than one allocation of
+/// its memory is refused here, before anything is allocated, with what would fit.
 vk::Extent3D extentOf(const volumes::Volume& volume, const GpuContext& context) {
     const uint32_t limit = context.physicalDevice().getProperties().limits.maxImageDimension3D;
     for (int axis = 0; axis < 3; ++axis) {
@@ -18,6 +20,18 @@ vk::Extent3D extentOf(const volumes::Volume& volume, const GpuContext& context) 
                                      " voxels along axis " + std::to_string(axis) + " exceeds the device's 3D image limit of " +
                                      std::to_string(limit));
         }
+    }
+    const vk::DeviceSize largest = context.largestAllocationBytes(vk::MemoryPropertyFlagBits::eDeviceLocal);
+    const vk::DeviceSize bytes = VolumeTexture::bytesFor(volume.dims);
+    if (bytes > largest) {
+        const auto mib = [](vk::DeviceSize b) { return std::to_string((b + (1u << 20) - 1) >> 20) + " MiB"; };
+        throw DeviceMemoryError("a volume of " + std::to_string(volume.dims[0]) + "x" + std::to_string(volume.dims[1]) +
+                                    "x" + std::to_string(volume.dims[2]) + " voxels needs " + mib(bytes) +
+                                    " on the device, and " + context.deviceName() + " allows " + mib(largest) +
+                                    " in one image: at most " +
+                                    std::to_string(VolumeTexture::slicesThatFit(volume.dims, largest)) +
+                                    " of its slices fit (crop it, or choose a larger --device)",
+                                largest);
     }
     return vk::Extent3D(static_cast<uint32_t>(volume.dims[0]), static_cast<uint32_t>(volume.dims[1]),
                         static_cast<uint32_t>(volume.dims[2]));
@@ -43,13 +57,25 @@ void forEachSlab(const std::array<int, 3>& dims, Function perSlab) {
 
 }  // namespace
 
+vk::DeviceSize VolumeTexture::bytesFor(const std::array<int, 3>& dims) {
+    vk::DeviceSize bytes = sizeof(uint16_t);
+    for (const int n : dims) bytes *= static_cast<vk::DeviceSize>(std::max(n, 0));
+    return bytes;
+}
+
+int VolumeTexture::slicesThatFit(const std::array<int, 3>& dims, vk::DeviceSize largestBytes) {
+    const vk::DeviceSize sliceBytes = bytesFor({dims[0], dims[1], 1});
+    if (sliceBytes == 0) return 0;
+    return static_cast<int>(std::min<vk::DeviceSize>(largestBytes / sliceBytes, static_cast<vk::DeviceSize>(dims[2])));
+}
+
 VolumeTexture::VolumeTexture(const GpuContext& context, const volumes::Volume& volume)
     : mContext(&context),
       mDims(volume.dims),
       mSpacingMm(volume.spacingMm),
       mImage(context, extentOf(volume, context), vk::Format::eR16Unorm,
              vk::ImageUsageFlagBits::eSampled | vk::ImageUsageFlagBits::eTransferDst | vk::ImageUsageFlagBits::eTransferSrc,
-             "CT volume"),
+             "CT volume", false, true),  // 3D even for one slice: the shaders read a sampler3D
       mSampler(context.device(), trilinearClampSampler()) {
     volumes::validateVolume(volume, "volume for upload");
     bool isFirst = true;

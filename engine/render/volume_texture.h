@@ -16,8 +16,14 @@ inline constexpr int kHuTexelOffset = 32768;
 class VolumeTexture {
 public:
     /// Uploads `volume` in slabs of at most 32 MiB, so the staging memory stays small next
-    /// to a large CT. Throws if the device's 3D image limit is smaller than the volume.
+    /// to a large CT. Throws if the device's 3D image limit is smaller than the volume, and
+    /// DeviceMemoryError, saying how many slices would fit, if its memory cannot hold it.
     VolumeTexture(const GpuContext& context, const volumes::Volume& volume);
+
+    /// Device bytes of a volume of `dims` voxels (16-bit texels).
+    [[nodiscard]] static vk::DeviceSize bytesFor(const std::array<int, 3>& dims);
+    /// How many of the volume's slices (along its third axis) fit in `largestBytes`.
+    [[nodiscard]] static int slicesThatFit(const std::array<int, 3>& dims, vk::DeviceSize largestBytes);
 
     [[nodiscard]] const GpuImage& image() const { return mImage; }
     [[nodiscard]] const vk::raii::Sampler& sampler() const { return mSampler; }

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <sys/resource.h>
+
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
@@ -16,6 +18,17 @@ namespace conformal {
 namespace {
 
 const std::filesystem::path kTmp = CVC_TEST_TMP_DIR;
+
+// GCC says it builds with a sanitizer by __SANITIZE_ADDRESS__ / __SANITIZE_THREAD__, clang by
+// __has_feature.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define CUBE_MAP_TEST_CLANG_SANITIZED 1
+#endif
+#endif
+#ifndef CUBE_MAP_TEST_CLANG_SANITIZED
+#define CUBE_MAP_TEST_CLANG_SANITIZED 0
+#endif
 
 TEST(CubeMap, FaceRulesFollowVulkan) {
     // Face centres and the (s, t) = (0, 0) corners from the spec's table.
@@ -125,6 +138,71 @@ TEST(CubeMap, FileRoundTripsAndBadFilesAreNamed) {
     }
     expectError(trailing, "unexpected bytes");
     expectError(kTmp / "missing.cvcm", "cannot open");
+}
+
+/// Patches `bytes` at `offset` of a copy of `source`, returning the copy's path.
+std::filesystem::path patchedCopy(const std::filesystem::path& source, const std::string& name, std::streamoff offset,
+                                  const void* bytes, std::size_t count) {
+    const auto copy = kTmp / name;
+    std::filesystem::copy_file(source, copy, std::filesystem::copy_options::overwrite_existing);
+    std::fstream file(copy, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(offset);
+    file.write(static_cast<const char*>(bytes), static_cast<std::streamsize>(count));
+    return copy;
+}
+
+TEST(CubeMap, HeaderPromisingMoreTexelsThanTheFileHoldsIsRefusedBeforeAllocating) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__) || CUBE_MAP_TEST_CLANG_SANITIZED
+    GTEST_SKIP() << "an address-space limit cannot be set under a sanitizer's shadow memory";
+#else
+    // fuzz/corpus/cube_map/header_claims_size_16384_no_texels.cvcm: the header alone, claiming
+    // faces of 16384^2 texels (25.8 GB). Under a 4 GiB address-space cap the loader must refuse
+    // it as truncated; allocating the texels first would throw std::bad_alloc instead.
+    const CubeMap cube = bakeCubeMap(LinearMap(immersiveCabinBox()), immersiveCabinBox(), MapKind::Linear, 2);
+    const auto source = kTmp / "header_only_source.cvcm";
+    saveCubeMap(cube, source);
+    const std::uint32_t size = 16384;
+    const std::uint64_t payload = 6ull * size * size * 16;
+    const auto headerOnly = patchedCopy(source, "header_only.cvcm", 12, &size, sizeof(size));
+    {
+        std::fstream file(headerOnly, std::ios::in | std::ios::out | std::ios::binary);
+        file.seekp(80);  // the payload byte count, which must match the size
+        file.write(reinterpret_cast<const char*>(&payload), sizeof(payload));
+    }
+    std::filesystem::resize_file(headerOnly, 88);
+    const auto loadUnderCap = [&] {
+        const rlim_t cap = rlim_t{4} << 30;
+        const rlimit limit{cap, cap};
+        setrlimit(RLIMIT_AS, &limit);
+        try {
+            loadCubeMap(headerOnly);
+        } catch (const CubeMapFileError& error) {
+            const bool named =
+                std::string(error.what()).find("truncated texel data (0 of 25769803776 bytes)") != std::string::npos;
+            std::_Exit(named ? 0 : 2);
+        } catch (...) {
+            std::_Exit(3);  // std::bad_alloc: the texels were allocated before the size was checked
+        }
+        std::_Exit(4);
+    };
+    EXPECT_EXIT(loadUnderCap(), ::testing::ExitedWithCode(0), "");
+#endif
+}
+
+TEST(CubeMap, NonFiniteTexelsAreRefused) {
+    const CubeMap cube = bakeCubeMap(LinearMap(immersiveCabinBox()), immersiveCabinBox(), MapKind::Linear, 2);
+    const auto source = kTmp / "finite.cvcm";
+    saveCubeMap(cube, source);
+    const float nan = std::nanf("");
+    const auto path = patchedCopy(source, "nan_texel.cvcm", 88 + 5 * 4, &nan, sizeof(nan));
+    try {
+        loadCubeMap(path);
+        ADD_FAILURE() << "no error for a NaN texel";
+    } catch (const CubeMapFileError& error) {
+        const std::string message = error.what();
+        EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+        EXPECT_NE(message.find("non-finite value (float 5 of 96)"), std::string::npos) << message;
+    }
 }
 
 TEST(CubeMap, KindNamesRoundTripAndUnknownNamesListTheChoices) {

@@ -76,6 +76,43 @@ TEST_F(GpuResources, LargeVolumeUploadsInSlabs) {
     EXPECT_EQ(texture.readBackHu(), volume.hu);
 }
 
+TEST_F(GpuResources, MemoryBeyondOneAllocationIsRefusedBeforeAllocating) {
+    const vk::DeviceSize largest = context().largestAllocationBytes(vk::MemoryPropertyFlagBits::eDeviceLocal);
+    ASSERT_GT(largest, vk::DeviceSize{0});
+    try {
+        // Creating the buffer costs nothing; its memory would be one byte too many.
+        const engine::GpuBuffer buffer(context(), largest + 1, vk::BufferUsageFlagBits::eStorageBuffer,
+                                       engine::GpuBuffer::Memory::DeviceLocal, "oversized test buffer");
+        ADD_FAILURE() << "a buffer of " << largest + 1 << " bytes was allocated";
+    } catch (const engine::DeviceMemoryError& e) {
+        EXPECT_NE(std::string(e.what()).find("oversized test buffer needs"), std::string::npos) << e.what();
+        EXPECT_EQ(e.largestBytes(), largest);
+    }
+}
+
+TEST_F(GpuResources, VolumeTooLargeForTheDeviceSaysHowManySlicesFit) {
+    EXPECT_EQ(engine::VolumeTexture::slicesThatFit({1100, 1100, 1000}, vk::DeviceSize{1} << 31), 887);  // 2^31 / 2420000
+    EXPECT_EQ(engine::VolumeTexture::slicesThatFit({4, 4, 10}, 1u << 20), 10);  // all of them
+    EXPECT_EQ(engine::VolumeTexture::bytesFor({512, 512, 451}), vk::DeviceSize{236453888});
+
+    // A volume one slice past what one image may hold; its voxels are never touched, since the
+    // size is refused before anything is allocated or uploaded.
+    const uint32_t side = std::min<uint32_t>(context().physicalDevice().getProperties().limits.maxImageDimension3D, 4096);
+    const vk::DeviceSize largest = context().largestAllocationBytes(vk::MemoryPropertyFlagBits::eDeviceLocal);
+    const vk::DeviceSize slices = largest / (vk::DeviceSize{side} * side * 2) + 1;
+    if (slices > side) GTEST_SKIP() << "this device holds any volume its image limit allows";
+    volumes::Volume volume;
+    volume.dims = {static_cast<int>(side), static_cast<int>(side), static_cast<int>(slices)};
+    try {
+        const engine::VolumeTexture texture(context(), volume);
+        ADD_FAILURE() << "an oversized volume was accepted";
+    } catch (const engine::DeviceMemoryError& e) {
+        const std::string fits = "at most " + std::to_string(slices - 1) + " of its slices fit";
+        EXPECT_NE(std::string(e.what()).find(fits), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(context().deviceName()), std::string::npos) << e.what();
+    }
+}
+
 TEST_F(GpuResources, ComputeDispatchProducesKnownResult) {
     constexpr uint32_t kCount = 1000;  // not a multiple of the work-group size
     std::vector<uint32_t> input(kCount);
