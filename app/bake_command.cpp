@@ -101,7 +101,16 @@ void addBakeCommand(CLI::App& program) {
         ->capture_default_str();
     command->add_flag("!--no-cache", options->useCache, "Always recompute (the result is not stored in the cache)");
     command->add_flag("--force", options->force, "Replace an existing output file");
-    command->callback([options] { runBake(*options); });
+    command->callback([options, command] {
+        const conformal::MapKind map = !options->map.empty() ? conformal::mapKindFromName(options->map)
+                                       : engine::loadDisplay(options->display.empty() ? "ic5" : options->display).map;
+        if (map != conformal::MapKind::Conformal) {
+            refuseGivenOptions(*command, {"--metric", "--mesh-resolution"},
+                               "shapes the Ricci flow of the conformal map; the " + conformal::mapKindName(map) +
+                                   " map has none");
+        }
+        runBake(*options);
+    });
 }
 
 }  // namespace app

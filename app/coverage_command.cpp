@@ -445,10 +445,6 @@ void validate(const CoverageOptions& options) {
     if (options.isRetrograde && options.isBothDirections) {
         throw std::invalid_argument("--retrograde and --both-directions exclude each other");
     }
-    if (options.isCompare && (options.isRetrograde || options.isBothDirections || !options.map.empty())) {
-        throw std::invalid_argument("--compare sets the displays, maps and directions of its rows itself; drop "
-                                    "--retrograde, --both-directions and --map");
-    }
     if (!(options.pathStepMm >= 0.1 && options.pathStepMm <= 100.0)) throw std::invalid_argument("--path-step must be 0.1..100 mm");
     if (!(options.smoothingMm >= 0.0 && options.smoothingMm <= 200.0)) throw std::invalid_argument("--smoothing must be 0..200 mm");
     if (options.maxFrames < 0) throw std::invalid_argument("--frames must not be negative");
@@ -567,7 +563,15 @@ void addCoverageCommand(CLI::App& program) {
     command->add_flag("--force", options->force, "Replace an earlier coverage run in the output folder");
     command->add_option("--device", options->device,
                         "Vulkan device: index, part of its name, 'cpu' or 'gpu' (default: $CVC_DEVICE, else the best)");
-    command->callback([options] { runCoverageCommand(*options); });
+    command->callback([options, command] {
+        if (options->isCompare) {
+            refuseGivenOptions(*command, {"--display", "--map", "--retrograde", "--both-directions"},
+                               "is set by each row of --compare itself");
+        } else {
+            refuseMapOptionsWithoutMap(*command, options->display, options->map);
+        }
+        runCoverageCommand(*options);
+    });
 }
 
 }  // namespace app

@@ -1,5 +1,6 @@
 /// @brief `cvc`: the conformal-vc command-line program. Parses arguments, runs one subcommand,
 /// and turns any error into one line on stderr and a non-zero exit.
+#include <csignal>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -11,6 +12,10 @@
 #include "engine/display/frame_sequence.h"
 
 int main(int argc, char** argv) {
+    // A file-size limit (ulimit -f) would otherwise kill the process with SIGXFSZ mid-write;
+    // ignored, the write fails with EFBIG and is reported like a full disk: one message naming
+    // the file, the finished frames kept for --resume.
+    std::signal(SIGXFSZ, SIG_IGN);
     // Under mpirun, MPI starts before anything else (and sets lavapipe's threads per rank).
     const app::MpiSession mpi(&argc, &argv);
     CLI::App program{"conformal-vc: virtual colonoscopy rendering for partially-immersive displays"};
@@ -37,7 +42,11 @@ int main(int argc, char** argv) {
         }
         program.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return program.exit(e);
+        // --help and --version are "errors" with exit code 0: CLI11 prints them. A real parse
+        // error is one line like every other error, naming the option.
+        if (e.get_exit_code() == 0) return program.exit(e);
+        std::cerr << "cvc: error: " << e.what() << " (--help lists the options)\n";
+        return e.get_exit_code();
     } catch (const engine::SequenceCancelled&) {
         std::cerr << "cvc: interrupted; the finished frames are kept (continue with --resume)\n";
         if (mpi.isShared()) mpi.abort(130);

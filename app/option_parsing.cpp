@@ -8,11 +8,34 @@
 
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
+
+#include "conformal/cube_map.h"
+#include "engine/display/display_json.h"
 #include "engine/render/pinhole_camera.h"
 
 namespace app {
 
-std::pair<int, int> parseImageSize(const std::string& text) {
+void refuseGivenOptions(const CLI::App& command, std::initializer_list<const char*> options, const std::string& why) {
+    for (const char* option : options) {
+        if (command.count(option) > 0) throw std::invalid_argument(std::string(option) + " " + why);
+    }
+}
+
+void refuseMapOptionsWithoutMap(const CLI::App& command, const std::string& display, const std::string& mapOverride) {
+    const conformal::MapKind map =
+        mapOverride.empty() ? engine::loadDisplay(display).map : conformal::mapKindFromName(mapOverride);
+    if (map != conformal::MapKind::None) return;
+    for (const char* option : {"--map-size", "--cube-map", "--warp"}) {
+        const CLI::Option* given = command.get_option_no_throw(option);  // not every command has all three
+        if (given != nullptr && given->count() > 0) {
+            throw std::invalid_argument(std::string(option) + " bends the rays through a map, and " + display +
+                                        " is rendered without one here");
+        }
+    }
+}
+
+std::pair<int, int> parseImageSize(const std::string& text, const std::string& option) {
     const auto x = text.find('x');
     std::size_t usedWidth = 0, usedHeight = 0;
     int width = 0, height = 0;
@@ -21,11 +44,11 @@ std::pair<int, int> parseImageSize(const std::string& text) {
         width = std::stoi(text.substr(0, x), &usedWidth);
         height = std::stoi(text.substr(x + 1), &usedHeight);
     } catch (const std::exception&) {
-        throw std::invalid_argument("--size '" + text + "' is not WIDTHxHEIGHT");
+        throw std::invalid_argument(option + " '" + text + "' is not WIDTHxHEIGHT");
     }
     if (usedWidth != x || usedHeight != text.size() - x - 1 || width < 1 || height < 1 ||
         width > engine::kMaxImageSide || height > engine::kMaxImageSide) {
-        throw std::invalid_argument("--size '" + text + "' must be WIDTHxHEIGHT with sides 1.." +
+        throw std::invalid_argument(option + " '" + text + "' must be WIDTHxHEIGHT with sides 1.." +
                                     std::to_string(engine::kMaxImageSide));
     }
     return {width, height};
@@ -53,7 +76,7 @@ void requireWritableOutput(const std::string& path, bool force) {
 }
 
 void resizeWalls(engine::Display& display, const std::string& size) {
-    const int width = parseImageSize(size).first;
+    const int width = parseImageSize(size, "--wall-size").first;
     const double perMetre = width / display.boxSizeM.x;
     for (engine::DisplayWall& wall : display.walls) {
         const engine::WallRectangle rect = engine::wallRectangle(display, wall.name);

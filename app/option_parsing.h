@@ -1,6 +1,7 @@
 /// @brief Small parsers and checks shared by the subcommands' options.
 #pragma once
 
+#include <initializer_list>
 #include <string>
 #include <utility>
 #include <vector>
@@ -9,11 +10,25 @@
 
 #include "engine/display/display.h"
 
+namespace CLI {
+class App;
+}
+
 namespace app {
 
-/// "1024x768" -> {1024, 768}; throws std::invalid_argument for anything else or sizes
-/// outside 1..16384.
-std::pair<int, int> parseImageSize(const std::string& text);
+/// Refuses the first of `options` given on `command`'s line with "OPTION WHY" (a
+/// std::invalid_argument): an option that does not apply to what was asked is an error the user
+/// sees, never a value silently ignored.
+void refuseGivenOptions(const CLI::App& command, std::initializer_list<const char*> options, const std::string& why);
+
+/// `--map-size`, `--cube-map` and `--warp` shape the rays bent through a display's map: they are
+/// refused when the display (`display`, a preset or JSON file, after the `--map` override
+/// `mapOverride` unless empty) has no map. Throws what loadDisplay throws for a bad display.
+void refuseMapOptionsWithoutMap(const CLI::App& command, const std::string& display, const std::string& mapOverride);
+
+/// "1024x768" -> {1024, 768}; throws std::invalid_argument naming `option` for anything else or
+/// sizes outside 1..16384.
+std::pair<int, int> parseImageSize(const std::string& text, const std::string& option = "--size");
 
 /// Three finite numbers from a command-line list; `option` names it in the error.
 glm::dvec3 vec3From(const std::vector<double>& values, const std::string& option);

@@ -165,7 +165,15 @@ void addPhantomCommand(CLI::App& program) {
                       "Colon: --body --lung --collapse 0.42:12 --fluid 0.238:40:6 (--collapse and --fluid "
                       "replace these defaults)");
     command->add_flag("--force", options->force, "Replace existing output files");
-    command->callback([options] { runPhantom(*options); });
+    command->callback([options, command] {
+        if (options->kind != "colon") {
+            refuseGivenOptions(*command,
+                               {"--truth", "--polyp", "--noise", "--seed", "--shape-seed", "--body", "--lung",
+                                "--collapse", "--fluid", "--anatomy"},
+                               "describes the colon phantom; a " + options->kind + " phantom has no such part");
+        }
+        runPhantom(*options);
+    });
 }
 
 }  // namespace app

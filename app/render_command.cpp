@@ -91,6 +91,50 @@ void runPinholeRender(const RenderOptions& options) {
     }
 }
 
+/// Every option that the request makes meaningless is refused, naming why, before any work.
+void refuseOptionsNotApplying(const CLI::App& command, const RenderOptions& options) {
+    if (options.display.empty()) {
+        refuseGivenOptions(command,
+                           {"--map", "--map-size", "--cube-map", "--warp", "--scale", "--before-after", "--path",
+                            "--path-step", "--smoothing", "--retrograde", "--frames", "--distribute", "--polyp",
+                            "--polyp-elevation", "--resume"},
+                           "is for display renders (--display); a pinhole view is one image from one camera");
+    } else {
+        refuseGivenOptions(command, {"--fov", "--size"},
+                           "sets the pinhole camera; a display's walls have their own sizes and fields of view");
+        refuseGivenOptions(command, {"--stats"}, "counts the fetches of a pinhole view; it is not for --display");
+        if (options.pathFile.empty()) {
+            refuseGivenOptions(command,
+                               {"--path-step", "--smoothing", "--retrograde", "--frames", "--polyp", "--polyp-elevation"},
+                               "needs --path: without it the display renders the one pose of --position");
+        } else {
+            refuseGivenOptions(command, {"--position", "--look-at", "--up"},
+                               "sets a single pose; with --path the poses follow the centreline");
+        }
+        if (options.polyp >= 0) {
+            refuseGivenOptions(command, {"--frames"}, "counts the frames of a fly-through; --polyp renders one pose");
+        } else {
+            refuseGivenOptions(command, {"--polyp-elevation"}, "needs --polyp");
+        }
+        if (!options.cubeMapFile.empty()) {
+            refuseGivenOptions(command, {"--map-size"}, "is the bake's size; the file of --cube-map has its own");
+        }
+        refuseMapOptionsWithoutMap(command, options.display, options.map);
+    }
+    if (options.mode == "composite") {
+        refuseGivenOptions(command, {"--iso", "--refine"}, "is for --mode iso; composite mode uses --tf");
+    } else {
+        refuseGivenOptions(command, {"--tf", "--early-termination"}, "is for --mode composite");
+    }
+    if (options.isSkippingOff) {
+        refuseGivenOptions(command, {"--skip-cell"}, "sets the empty-space map, which --no-skip turns off");
+    }
+    if (options.filter == "tricubic" && !options.gradient.empty() && options.gradient != "bspline") {
+        throw std::invalid_argument("--gradient " + options.gradient +
+                                    ": the tricubic filter always shades with B-spline normals");
+    }
+}
+
 }  // namespace
 
 engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isDisplay) {
@@ -150,7 +194,7 @@ void addRenderCommand(CLI::App& program) {
     command->add_option("--display", options->display, "ic5, ic6, cave6, cave4, forward or a display JSON file")->group(display);
     command->add_option("--map", options->map, "Override the display's map: conformal, linear, none")
         ->check(CLI::IsMember({"conformal", "linear", "none"}))->group(display);
-    command->add_option("--map-size", options->mapSize, "Cube-map texels per face edge (ignored with --cube-map)")
+    command->add_option("--map-size", options->mapSize, "Cube-map texels per face edge of the bake (not with --cube-map, whose file has its size)")
         ->capture_default_str()->group(display);
     command->add_option("--cube-map", options->cubeMapFile,
                         "Bend the rays through this file from `cvc bake` instead of the cached bake; its box, map "
@@ -178,10 +222,10 @@ void addRenderCommand(CLI::App& program) {
         ->check(CLI::IsMember({"frames", "walls"}))->capture_default_str()->group(display);
     command->add_option("--polyp", options->polyp,
                         "One pose on the path from which polyp N of its ground truth is seen ahead and above")
-        ->group(display);
+        ->check(CLI::NonNegativeNumber)->group(display);
     command->add_option("--polyp-elevation", options->polypElevationDeg,
                         "Degrees above the horizon at which --polyp is seen (above ~37: on the IC's ceiling)")
-        ->capture_default_str()->group(display);
+        ->check(CLI::Range(-89.0, 89.0))->capture_default_str()->group(display);
 
     auto* rendering = "Rendering";
     command->add_option("--mode", options->mode, "iso (first crossing of --iso) or composite (--tf)")
@@ -217,13 +261,11 @@ void addRenderCommand(CLI::App& program) {
                         "a pinhole view, 25 for a display)")->group(rendering);
     command->add_option("--device", options->device,
                         "Vulkan device: index, part of its name, 'cpu' or 'gpu' (default: $CVC_DEVICE, else the best)");
-    command->callback([options, hits] {
+    command->callback([options, hits, command] {
+        refuseOptionsNotApplying(*command, *options);
         if (options->display.empty()) {
             if (hits->count() > 0 && options->hitsPath.empty()) {
                 throw std::invalid_argument("--hits needs a file name for a pinhole view (e.g. --hits hits.nrrd)");
-            }
-            if (!options->cubeMapFile.empty()) {
-                throw std::invalid_argument("--cube-map is for display renders (--display)");
             }
             if (options->outPath.empty()) options->outPath = "render.png";
             if (mpiSession().isShared()) {
@@ -234,6 +276,10 @@ void addRenderCommand(CLI::App& program) {
             if (!options->hitsPath.empty()) {
                 throw std::invalid_argument("--hits takes no file name for a display render: the hit images go beside "
                                             "each wall's PNG");
+            }
+            if (command->count("--distribute") > 0 && !mpiSession().isShared()) {
+                std::cerr << "cvc: warning: --distribute splits the work between mpirun's ranks; this one process "
+                             "renders all of it\n";
             }
             options->isWritingDisplayHits = hits->count() > 0;
             if (options->outPath.empty()) options->outPath = "frames";

@@ -34,7 +34,14 @@ VolumeFormat volumeFormatOf(const std::string& path, const LoadOptions& options)
     std::error_code error;
     const auto status = std::filesystem::status(path, error);
     if (!std::filesystem::exists(status)) throw VolumeError(path + ": no such file or folder");
-    if (std::filesystem::is_directory(status)) return VolumeFormat::DicomSeries;
+    // Each option belongs to one kind of input: given with another it would be silently unused.
+    if (std::filesystem::is_directory(status)) {
+        if (options.raw) throw VolumeError(path + ": a raw description is for a headerless file, this is a folder");
+        return VolumeFormat::DicomSeries;
+    }
+    if (!options.dicomSeriesUid.empty()) {
+        throw VolumeError(path + ": a DICOM series UID picks a series in a folder, this is a file");
+    }
     if (options.raw) return VolumeFormat::Raw;
     std::string name = std::filesystem::path(path).filename().string();
     std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });

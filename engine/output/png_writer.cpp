@@ -36,6 +36,13 @@ int filterFlags(PngFilter filter) {
     return PNG_ALL_FILTERS;
 }
 
+/// A PNG cut short (a full disk, a file-size limit) is removed: no half-written image is left
+/// where a finished one is expected.
+void removePartialFile(const std::string& path) {
+    std::error_code ignored;
+    std::filesystem::remove(path, ignored);
+}
+
 }  // namespace
 
 void writePng(const std::string& path, int width, int height, std::span<const uint8_t> rgba, bool overwrite,
@@ -58,9 +65,14 @@ void writePng(const std::string& path, int width, int height, std::span<const ui
         throw std::runtime_error(path + ": cannot start the PNG encoder");
     }
     // libpng reports errors by longjmp; nothing with a destructor may be created below this.
+    errno = 0;  // libpng's "Write Error" does not say why; the failed fwrite's errno does
     if (setjmp(png_jmpbuf(png))) {
+        const int writeErrno = errno;
         png_destroy_write_struct(&png, &info);
-        throw std::runtime_error(path + ": PNG write failed (" + error + ")");
+        file.reset();
+        removePartialFile(path);
+        throw std::runtime_error(path + ": PNG write failed (" + error +
+                                 (writeErrno != 0 ? std::string(": ") + std::strerror(writeErrno) : std::string()) + ")");
     }
     png_init_io(png, file.get());
     png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGBA,
@@ -73,8 +85,11 @@ void writePng(const std::string& path, int width, int height, std::span<const ui
     }
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
-    if (std::fflush(file.get()) != 0 || std::ferror(file.get())) {
-        throw std::runtime_error(path + ": write failed (" + std::strerror(errno) + ")");
+    if (std::fflush(file.get()) != 0 || std::ferror(file.get()) || std::fclose(file.release()) != 0) {
+        const int writeErrno = errno;
+        file.reset();
+        removePartialFile(path);
+        throw std::runtime_error(path + ": write failed (" + std::strerror(writeErrno) + ")");
     }
 }
 

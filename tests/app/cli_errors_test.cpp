@@ -168,7 +168,8 @@ TEST(CliErrors, RenderRefusesACubeMapBakedForAnotherDisplay) {
     // --map is applied first, then the file's kind is checked against it.
     expectOneLineError(runCvc(render + " --map conformal", cache),
                        "holds the linear map, the display 'ic5' asks for conformal");
-    expectOneLineError(runCvc(render + " --map none", cache), "display 'ic5' asks for no map");
+    // Without a map there is nothing to bend the rays through: the file is refused outright.
+    expectOneLineError(runCvc(render + " --map none", cache), "--cube-map bends the rays through a map");
     EXPECT_FALSE(fs::exists(tmp("cube_map_mismatch") / "frame_0000"));
 }
 
@@ -177,6 +178,76 @@ TEST(CliErrors, CubeMapIsForDisplayRenders) {
     expectOneLineError(runCvc("render " + volume.string() + " --cube-map x.cvcm --force -o " +
                               tmp("pinhole_cube_map.png").string()),
                        "--cube-map is for display renders (--display)");
+}
+
+/// Options that the request makes meaningless are refused, each with its reason, before any
+/// work: a user who typed them expects them to matter.
+TEST(CliErrors, OptionsThatDoNotApplyAreRefusedNotIgnored) {
+    const fs::path volume = writeSmallVolume("not_applying.nrrd");
+    const fs::path picture = tmp("not_applying.png");
+    const std::string pinhole = "render " + volume.string() + " --force -o " + picture.string() + " ";
+    const std::pair<std::string, std::string> pinholeCases[] = {
+        {"--path x.json", "--path is for display renders"},
+        {"--warp exact", "--warp is for display renders"},
+        {"--resume", "--resume is for display renders"},
+        {"--map-size 64", "--map-size is for display renders"},
+        {"--polyp 1", "--polyp is for display renders"},
+        {"--mode composite --iso -300", "--iso is for --mode iso"},
+        {"--mode composite --refine 2", "--refine is for --mode iso"},
+        {"--tf bone", "--tf is for --mode composite"},
+        {"--early-termination 0.9", "--early-termination is for --mode composite"},
+        {"--no-skip --skip-cell 4", "--skip-cell sets the empty-space map, which --no-skip turns off"},
+        {"--filter tricubic --gradient central", "the tricubic filter always shades with B-spline normals"},
+    };
+    for (const auto& [given, reason] : pinholeCases) {
+        fs::remove(picture);
+        expectOneLineError(runCvc(pinhole + given), reason);
+        EXPECT_FALSE(fs::exists(picture)) << given;
+    }
+
+    const fs::path folder = tmp("not_applying_frames");
+    fs::remove_all(folder);
+    const std::string display = "render " + volume.string() + " --display ic5 --force -o " + folder.string() + " ";
+    const std::string pose = "--position 7.5,7.5,4 --look-at 7.5,7.5,12 ";
+    const std::pair<std::string, std::string> displayCases[] = {
+        {pose + "--size 64x64", "--size sets the pinhole camera"},
+        {pose + "--fov 60", "--fov sets the pinhole camera"},
+        {pose + "--stats", "--stats counts the fetches of a pinhole view"},
+        {pose + "--frames 3", "--frames needs --path"},
+        {pose + "--retrograde", "--retrograde needs --path"},
+        {pose + "--path-step 4", "--path-step needs --path"},
+        {"--path x.json --position 1,2,3", "--position sets a single pose"},
+        {"--path x.json --polyp 0 --frames 2", "--frames counts the frames of a fly-through"},
+        {"--path x.json --polyp-elevation 30", "--polyp-elevation needs --polyp"},
+        {pose + "--cube-map x.cvcm --map-size 64", "--map-size is the bake's size"},
+        {pose + "--map none --warp exact", "--warp bends the rays through a map"},
+        {pose + "--map none --map-size 64", "--map-size bends the rays through a map"},
+    };
+    for (const auto& [given, reason] : displayCases) {
+        expectOneLineError(runCvc(display + given), reason);
+        EXPECT_FALSE(fs::exists(folder / "frame_0000")) << given;
+    }
+    // A display whose own map is none, with no --map given.
+    expectOneLineError(runCvc("render " + volume.string() + " --display forward --force -o " + folder.string() + " " +
+                              pose + "--warp exact"),
+                       "--warp bends the rays through a map, and forward");
+
+    const std::string coverage = "coverage " + volume.string() + " --path x.json --force -o " + folder.string() + " ";
+    expectOneLineError(runCvc(coverage + "--compare --display ic6"), "--display is set by each row of --compare");
+    expectOneLineError(runCvc(coverage + "--display forward --map-size 64"), "--map-size bends the rays through a map");
+}
+
+/// A value CLI11 itself refuses (out of a range, not a number, an unknown option) is one line too.
+TEST(CliErrors, ParseErrorsAreOneLine) {
+    const fs::path volume = writeSmallVolume("parse_errors.nrrd");
+    const std::string render = "render " + volume.string() + " --force -o " + tmp("parse_errors.png").string() + " ";
+    expectOneLineError(runCvc(render + "--skip-cell 0"), "--skip-cell: Value 0 not in range 1 to 64");
+    expectOneLineError(runCvc(render + "--polyp-elevation 500 --display ic5"), "--polyp-elevation");
+    expectOneLineError(runCvc(render + "--size"), "--size");
+    expectOneLineError(runCvc(render + "--no-such-option"), "--no-such-option");
+    const auto help = runCvc("render --help");
+    EXPECT_EQ(help.exitCode, 0);
+    EXPECT_NE(help.out.find("--display"), std::string::npos);
 }
 
 TEST(CliRender, WritesAPngOfThePhantom) {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/folder_compare.h"
 #include "tests/support/run_program.h"
 
 namespace {
@@ -109,6 +110,64 @@ TEST(DisplayRender, ResumeRendersOnlyWhatIsMissingAndForceIsNeededToReplace) {
     EXPECT_TRUE(fs::exists(out / "index.html"));
 }
 
+/// Runs `script` with sh in a mount namespace of its own, where it may mount a small tmpfs that
+/// nothing else sees and that vanishes with it; returns sh's exit code, or -1 where this machine
+/// allows no such namespace (neither as root nor through a user namespace).
+int runInPrivateMount(const std::string& script) {
+    for (const char* unshare : {"unshare --mount", "unshare --user --map-root-user --mount"}) {
+        if (std::system((std::string(unshare) + " true >/dev/null 2>&1").c_str()) != 0) continue;
+        const std::string command = std::string(unshare) + " sh -c '" + script + "'";
+        const int status = std::system(command.c_str());
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 255;
+    }
+    return -1;
+}
+
+/// A disk that fills up mid-run: one message naming the file and why, the finished frames kept,
+/// no half-written one, and --resume (with room again) completing the folder as a clean run writes it.
+TEST(DisplayRender, AFullDiskStopsWithOneMessageAndResumeCompletesTheFolder) {
+    const SmallScene scene;
+    const fs::path clean = tmp("display/frames_full_disk_clean");
+    fs::remove_all(clean);
+    ASSERT_EQ(runCvc(scene.command(clean)).exitCode, 0);
+    // Room for the manifest and one and a half frames, in tmpfs pages.
+    const auto pages = [](std::uintmax_t bytes) { return (bytes + 4095) / 4096; };
+    std::uintmax_t framePages = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(clean / "frame_0000")) {
+        if (entry.is_regular_file()) framePages += pages(entry.file_size());
+    }
+    const std::uintmax_t roomKiB = 4 * (pages(fs::file_size(clean / "render.json")) + framePages * 3 / 2);
+
+    const fs::path mount = tmp("display/full_disk_mount");
+    const fs::path kept = tmp("display/frames_full_disk");
+    fs::remove_all(kept);
+    fs::create_directories(mount);
+    const fs::path err = tmp("display/full_disk.err");
+    const std::string full = (mount / "frames").string();
+    const int code = runInPrivateMount("mount -t tmpfs -o size=" + std::to_string(roomKiB) + "k cvc_full " +
+                                       mount.string() + " && \"" CVC_BINARY "\" " + scene.command(full) + " 2>" +
+                                       err.string() + " </dev/null >/dev/null; code=$?; cp -a " + full + " " +
+                                       kept.string() + "; exit $code");
+    if (code == -1) GTEST_SKIP() << "no private mount namespace here (unshare)";
+    const std::string message = testing_support::readWholeFile(err);
+    EXPECT_NE(code, 0) << message;
+    // The progress bar shares stderr; the error is its one last line.
+    const std::string last = message.substr(message.rfind("cvc: error: "));
+    EXPECT_EQ(testing_support::lineCount(last), 1) << message;
+    EXPECT_NE(last.find("No space left on device"), std::string::npos) << message;
+    EXPECT_NE(last.find(full), std::string::npos) << message;
+    ASSERT_TRUE(fs::exists(kept / "frame_0000" / "sheet.png")) << message;
+    EXPECT_FALSE(fs::exists(kept / "frame_0002"));
+    for (const auto& entry : fs::directory_iterator(kept)) {
+        EXPECT_EQ(entry.path().filename().string().rfind(".frame_", 0), std::string::npos) << "left " << entry.path();
+    }
+
+    const auto resumed = runCvc(scene.command(kept, "--resume"));
+    ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
+    EXPECT_NE(resumed.out.find("kept 1 finished frame(s)"), std::string::npos) << resumed.out;
+    testing_support::expectSameFolders(clean, kept);
+}
+
 TEST(DisplayRender, ConformalDisplayWritesTheBeforeAfterSheet) {
     const SmallScene scene;
     const fs::path display = tmp("display/tiny_ic.json");
@@ -147,11 +206,11 @@ TEST(DisplayRender, BakedCubeMapOfTheDisplayIsUsedAndRecorded) {
     const fs::path out = tmp("display/frames_cube_map");
     fs::remove_all(out);
     const auto run = runCvc("render " + scene.volume.string() + " --display " + display.string() +
-                                " --position 15.5,15.5,8 --look-at 15.5,15.5,20 --up 0,1,0 --map-size 64 --force"
+                                " --position 15.5,15.5,8 --look-at 15.5,15.5,20 --up 0,1,0 --force"
                                 " --cube-map " + cubeMap.string() + " -o " + out.string(),
                             cache);
     ASSERT_EQ(run.exitCode, 0) << run.err;
-    // The file's 16^2 wins over --map-size 64.
+    // The file's size is the one used (a --map-size beside it is refused: tests/app/cli_errors_test).
     EXPECT_NE(run.err.find("map: linear, 16^2 per face, from " + cubeMap.string()), std::string::npos) << run.err;
     EXPECT_TRUE(fs::exists(out / "frame_0000" / "left" / "front.png"));
     const std::string manifest = testing_support::readWholeFile(out / "render.json");

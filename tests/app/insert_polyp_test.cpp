@@ -4,6 +4,7 @@
 // line for a point in tissue.
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -125,6 +126,19 @@ TEST(CvcInsertPolyp, APointInTissueGetsOneClearLine) {
     EXPECT_NE(run.err.find("is not in the lumen (HU "), std::string::npos) << run.err;
     EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 2) << "the loading note and the error:\n" << run.err;
     EXPECT_FALSE(fs::exists(tmp("insert_polyp_tissue.nrrd")));
+}
+
+TEST(CvcInsertPolyp, ACentrelineWithBadPointsIsRefusedBeforeLoading) {
+    // Points that are not three numbers: the path reader's message, not the JSON library's.
+    const fs::path centreline = tmp("insert_polyp_bad_centreline.json");
+    std::ofstream(centreline) << R"({"centreline_mm": [[1, 2, 3], ["x", 2, 3]]})";
+    const auto run = runCvc("insert-polyp nowhere.nrrd --at 1,2,3 --diameter 8 --force --centreline " +
+                            centreline.string() + " -o " + tmp("insert_polyp_bad.nrrd").string());
+    EXPECT_EQ(run.exitCode, 1);
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_NE(run.err.find("cvc: error: " + centreline.string()), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("type_error"), std::string::npos) << run.err;
+    EXPECT_FALSE(fs::exists(tmp("insert_polyp_bad.nrrd")));
 }
 
 }  // namespace

@@ -14,11 +14,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/support/folder_compare.h"
 #include "tests/support/run_program.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using testing_support::expectSameFolders;
 using testing_support::readWholeFile;
 using testing_support::runCvc;
 
@@ -60,24 +62,6 @@ std::string renderArguments(const fs::path& out, int frames, const std::string& 
 std::string frameName(int index) {
     std::string name = std::to_string(index);
     return "frame_" + std::string(4 - std::min<std::size_t>(4, name.size()), '0') + name;
-}
-
-/// Every regular file below `folder`, by its path relative to it, with its bytes.
-std::map<std::string, std::string> filesIn(const fs::path& folder) {
-    std::map<std::string, std::string> files;
-    for (const auto& entry : fs::recursive_directory_iterator(folder)) {
-        if (entry.is_regular_file()) files[fs::relative(entry.path(), folder).string()] = readWholeFile(entry.path());
-    }
-    return files;
-}
-
-void expectSameFolders(const fs::path& expected, const fs::path& actual) {
-    const auto want = filesIn(expected), got = filesIn(actual);
-    std::vector<std::string> wantNames, gotNames;
-    for (const auto& [name, bytes] : want) wantNames.push_back(name);
-    for (const auto& [name, bytes] : got) gotNames.push_back(name);
-    ASSERT_EQ(gotNames, wantNames);
-    for (const auto& [name, bytes] : want) EXPECT_TRUE(got.at(name) == bytes) << name << " differs";
 }
 
 /// The single-process folder of `frames` frames (made once per frame count).

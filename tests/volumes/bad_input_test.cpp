@@ -18,6 +18,7 @@
 #include "volumes/load_volume.h"
 #include "volumes/nifti_reader.h"
 #include "volumes/nrrd_io.h"
+#include "volumes/raw_reader.h"
 
 namespace volumes {
 namespace {
@@ -239,6 +240,21 @@ TEST(BadInput, DicomFolders) {
     const std::string notDicom = scratchFolder("dicom_none");
     writeBytes(notDicom + "/readme.txt", "no images here");
     expectLoadError(notDicom, "no DICOM image");
+}
+
+TEST(BadInput, OptionsForAnotherKindOfInputAreRefused) {
+    // A raw description given with a DICOM folder, or a series UID with a single file, would be
+    // silently unused: both are refused, naming the path.
+    const std::string folder = scratchFolder("dicom_with_raw");
+    LoadOptions raw;
+    raw.raw = parseRawSpec("4x4x4:int16:1x1x1");
+    expectLoadError(folder, "a raw description is for a headerless file, this is a folder", raw);
+    const std::string file = scratchFolder("series_uid_file") + "/ball.nrrd";
+    writeBytes(file, nrrdText("short", "2 2 2") + std::string(16, '\0'));
+    LoadOptions series;
+    series.dicomSeriesUid = "1.2.3";
+    expectLoadError(file, "a DICOM series UID picks a series in a folder, this is a file", series);
+    EXPECT_NO_THROW(loadVolume(file));  // the same file without the option loads
 }
 
 TEST(BadInput, DicomMissingSliceIsUnevenSpacing) {
