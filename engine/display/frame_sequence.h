@@ -61,7 +61,8 @@ struct SequenceOutput {
 /// What the caller learns while the sequence runs. Either may be empty.
 struct SequenceHooks {
     /// Polled before each frame is submitted and before each image is written; returning true
-    /// stops the run with SequenceCancelled (the frame being written is discarded).
+    /// stops the run with SequenceCancelled (the frame being written is discarded). The images
+    /// are written by worker threads, so it may be called from several threads at once.
     std::function<bool()> isCancelled;
     /// Called once at the start (frames already finished) and after each finished frame.
     std::function<void(int framesDone, int framesTotal)> onProgress;

@@ -201,7 +201,8 @@ TEST_F(FrameSequence, CancellingKeepsFinishedFramesOnlyAndResumeCompletesTheRest
     fs::remove_all(out);
 
     // Cancelled after the first image of the first frame was written: no frame is kept.
-    int polls = 0;
+    // Atomic: the hook is polled from the image workers too (ThreadSanitizer found it racing).
+    std::atomic<int> polls = 0;
     engine::SequenceHooks early;
     early.isCancelled = [&] { return ++polls > 3; };  // frame 0 submitted, frame 1 submitted, frame 0's first image
     EXPECT_THROW(engine::renderSequence(scene.raycaster, job, {out.string()}, early), engine::SequenceCancelled);
