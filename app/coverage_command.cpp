@@ -185,7 +185,7 @@ engine::CoverageJob coverageJobOf(const CoverageOptions& options, const Row& row
 /// i mod N under mpirun), marks what they show and writes each one's sheet.
 RowResult flyAndMeasure(const CoverageOptions& options, const Row& row, const Scene& scene, engine::Raycaster& raycaster,
                         colon::SurfaceCoverage& coverage, const fs::path& folder) {
-    const MpiSession& mpi = mpiSession();
+    MpiSession& mpi = mpiSession();
     RowResult result;
     result.job = coverageJobOf(options, row, scene);
     // Rank 0 bakes or finds the map first; the others then load it from the cache it filled.
@@ -375,7 +375,7 @@ void writeRowPage(const CoverageOptions& options, const Row& row, const Scene& s
 nlohmann::json runRow(const CoverageOptions& options, const Row& row, Scene& scene, engine::Raycaster& raycaster,
                       const std::string& rendererDescription, const fs::path& folder) {
     engine::validateDisplay(row.display);
-    const MpiSession& mpi = mpiSession();
+    MpiSession& mpi = mpiSession();
     if (mpi.rank() == 0) fs::create_directories(folder);
     mpi.barrier();
     colon::SurfaceCoverage coverage(scene.wall, options.coverage);
@@ -464,7 +464,7 @@ void validate(const CoverageOptions& options) {
 void runCoverageCommand(const CoverageOptions& options) {
     // Under mpirun every rank analyses the same volume (the same wall, element for element) and
     // flies its share of each row's frames; rank 0 prepares the folder, merges and reports.
-    const MpiSession& mpi = mpiSession();
+    MpiSession& mpi = mpiSession();
     validate(options);
     const std::vector<Row> rows = rowsOf(options);  // a bad display fails before anything loads
     if (mpi.rank() == 0) {

@@ -17,6 +17,7 @@
 #include "app/mpi_session.h"
 #include "app/option_parsing.h"
 #include "app/progress_bar.h"
+#include "app/rank_stop_report.h"
 #include "app/render_options.h"
 #include "conformal/cube_map_baker.h"
 #include "engine/core/gpu_context.h"
@@ -140,7 +141,7 @@ SharedRequest readRequest(const RenderOptions& givenOptions, RenderOptions& opti
 void runDisplayRender(const RenderOptions& givenOptions) {
     // Under mpirun rank 0 alone reads the display and the path (and runs the colon analysis for
     // --path auto); every rank gets what it found.
-    const MpiSession& mpi = mpiSession();
+    MpiSession& mpi = mpiSession();
     RenderOptions options = givenOptions;
     SharedRequest request;
     if (mpi.rank() == 0) request = readRequest(givenOptions, options);
@@ -214,6 +215,21 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     share.ranks = mpi.ranks();
     share.distribution = options.distribution == "walls" ? engine::Distribution::Walls : engine::Distribution::Frames;
     share.barrier = [&mpi] { mpi.barrier(); };
+    share.reportFrameWritten = [&mpi](std::vector<unsigned char> message) { mpi.sendToRoot(std::move(message)); };
+    share.takeFrameWritten = [&mpi] { return mpi.receiveAtRoot(); };
+    // Rank 0 names a rank that dies, and the frame it was at, when mpirun stops the job.
+    const std::vector<RankProcess> processes =
+        mpi.isShared() ? rankProcessesOf(mpi.gatherProcesses()) : std::vector<RankProcess>{};
+    std::optional<RankStopReport> stopReport;
+    if (mpi.isShared() && mpi.rank() == 0) {
+        stopReport.emplace(isatty(fileno(stderr)) != 0);
+        hooks.onPendingFrames = [&](const std::vector<int>& pending) {
+            std::vector<std::vector<int>> frames;
+            for (int rank = 0; rank < share.ranks; ++rank) frames.push_back(engine::framesOfRank(pending, share, rank));
+            stopReport->arm(rankStopStateOf(options.outPath, thisHostName(), processes, std::move(frames),
+                                            static_cast<int>(job.poses.size())));
+        };
+    }
     engine::SequenceSummary summary;
     try {
         summary = engine::renderSequence(raycaster, job, output, hooks, share);
@@ -233,6 +249,10 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     if (summary.framesRendered > 0) {
         std::cout << ", " << summary.seconds / summary.framesRendered << " s per frame (ray casting "
                   << summary.rayCastingMs / summary.framesRendered << " ms of device time per stereo frame)";
+    }
+    if (summary.sheetsOfOtherRanks > 0) {
+        std::cout << "; rank 0 wrote " << summary.sheetsOfOtherRanks << " sheet(s) of other ranks' walls in "
+                  << summary.sheetsOfOtherRanksSeconds << " s";
     }
     if (summary.framesKept > 0) std::cout << "; kept " << summary.framesKept << " finished frame(s)";
     if (!summary.framesLeftHalfWritten.empty()) {

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <iterator>
 #include <limits>
+#include <list>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <unistd.h>
 
 #ifdef CVC_WITH_MPI
 #include <mpi.h>
@@ -15,7 +19,10 @@
 namespace app {
 namespace {
 
-const MpiSession* gSession = nullptr;
+MpiSession* gSession = nullptr;
+
+/// The tag of the values sent to rank 0 (the collectives use none).
+constexpr int kToRootTag = 1;
 
 /// An integer from the environment, or `fallback`.
 int environmentInt(const char* name, int fallback) {
@@ -37,9 +44,23 @@ void check(int result, const char* what) {
 
 }  // namespace
 
+#ifdef CVC_WITH_MPI
+struct MpiSession::PendingSends {
+    struct Send {
+        std::vector<unsigned char> message;  // where MPI reads from until the send completes
+        MPI_Request request{};
+    };
+    std::list<Send> sends;  // a list: a message stays where it is while others come and go
+};
+#else
+struct MpiSession::PendingSends {};
+#endif
+
 int MpiSession::threadsPerRank(int cores, int ranksOnMachine) {
     return std::max(1, std::max(cores, 1) / std::max(ranksOnMachine, 1));
 }
+
+MpiSession::MpiSession() = default;
 
 MpiSession::MpiSession(int* argc, char*** argv) {
     gSession = this;
@@ -66,15 +87,86 @@ MpiSession::MpiSession(int* argc, char*** argv) {
 
 MpiSession::~MpiSession() {
 #ifdef CVC_WITH_MPI
-    if (mIsStarted) MPI_Finalize();
+    if (mIsStarted) {
+        try {
+            completeSends();
+        } catch (...) {
+            // Finalizing anyway: the job is ending.
+        }
+        MPI_Finalize();
+    }
 #endif
     if (gSession == this) gSession = nullptr;
 }
 
-void MpiSession::barrier() const {
+void MpiSession::completeSends() {
 #ifdef CVC_WITH_MPI
-    if (mIsStarted) check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier");
+    if (!mSends) return;
+    for (auto& send : mSends->sends) check(MPI_Wait(&send.request, MPI_STATUS_IGNORE), "MPI_Wait");
+    mSends->sends.clear();
 #endif
+}
+
+void MpiSession::barrier() {
+#ifdef CVC_WITH_MPI
+    if (!mIsStarted) return;
+    completeSends();
+    check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier");
+#endif
+}
+
+void MpiSession::sendToRoot(std::vector<unsigned char> message) {
+#ifdef CVC_WITH_MPI
+    if (!mIsStarted || mRanks == 1 || mRank == 0) {
+        throw std::logic_error("MPI: only ranks other than 0 of a shared run send to rank 0");
+    }
+    if (message.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+        throw std::invalid_argument("MPI: a message of " + std::to_string(message.size()) + " bytes is too large");
+    }
+    if (!mSends) mSends = std::make_unique<PendingSends>();
+    // Drop the messages rank 0 has received, so that a long run holds only those in flight.
+    for (auto send = mSends->sends.begin(); send != mSends->sends.end();) {
+        int isDone = 0;
+        check(MPI_Test(&send->request, &isDone, MPI_STATUS_IGNORE), "MPI_Test");
+        send = isDone != 0 ? mSends->sends.erase(send) : std::next(send);
+    }
+    auto& send = mSends->sends.emplace_back();
+    send.message = std::move(message);
+    check(MPI_Isend(send.message.data(), static_cast<int>(send.message.size()), MPI_BYTE, 0, kToRootTag,
+                    MPI_COMM_WORLD, &send.request),
+          "MPI_Isend");
+#else
+    (void)message;
+    throw std::logic_error("MPI: only ranks other than 0 of a shared run send to rank 0");
+#endif
+}
+
+std::optional<std::vector<unsigned char>> MpiSession::receiveAtRoot() const {
+#ifdef CVC_WITH_MPI
+    if (!mIsStarted || mRank != 0) return std::nullopt;
+    int hasArrived = 0;
+    MPI_Status status{};
+    check(MPI_Iprobe(MPI_ANY_SOURCE, kToRootTag, MPI_COMM_WORLD, &hasArrived, &status), "MPI_Iprobe");
+    if (hasArrived == 0) return std::nullopt;
+    int size = 0;
+    check(MPI_Get_count(&status, MPI_BYTE, &size), "MPI_Get_count");
+    std::vector<unsigned char> message(static_cast<std::size_t>(std::max(size, 0)));
+    check(MPI_Recv(message.data(), size, MPI_BYTE, status.MPI_SOURCE, kToRootTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+          "MPI_Recv");
+    return message;
+#else
+    return std::nullopt;
+#endif
+}
+
+std::vector<std::string> MpiSession::gatherProcesses() const {
+    return gather(thisHostName() + ' ' + std::to_string(getpid()));
+}
+
+std::string thisHostName() {
+    char host[256] = {};
+    if (gethostname(host, sizeof host - 1) != 0) return {};
+    return host;
 }
 
 std::string MpiSession::broadcast(const std::string& text) const {
@@ -132,8 +224,8 @@ void MpiSession::abort(int code) const {
     std::exit(code);
 }
 
-const MpiSession& mpiSession() {
-    static const MpiSession alone;  // before main made one, or without it (a unit test)
+MpiSession& mpiSession() {
+    static MpiSession alone;  // before main made one, or without it (a unit test)
     return gSession != nullptr ? *gSession : alone;
 }
 

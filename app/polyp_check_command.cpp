@@ -217,7 +217,7 @@ void runPolypCheck(const PolypCheckOptions& options) {
     const fs::path folder(options.outFolder);
     const fs::path jsonFile = folder / "polyp_check.json", tableFile = folder / "polyp_check.md", crops = folder / "crops";
     // Under mpirun the polyps are dealt out between the ranks; rank 0 checks the folder first.
-    const MpiSession& mpi = mpiSession();
+    MpiSession& mpi = mpiSession();
     if (mpi.rank() == 0) {
         if (fs::exists(folder) && !fs::is_directory(folder)) throw std::runtime_error(options.outFolder + ": is not a folder");
         if (!options.force && (fs::exists(jsonFile) || fs::exists(tableFile) || fs::exists(crops))) {

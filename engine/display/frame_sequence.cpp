@@ -20,6 +20,7 @@
 #include "engine/display/display_json.h"
 #include "engine/display/review_page.h"
 #include "engine/display/review_sheet.h"
+#include "engine/display/sheet_walls_message.h"
 #include "engine/output/hit_image_writer.h"
 #include "engine/output/png_reader.h"
 #include "engine/output/png_writer.h"
@@ -95,8 +96,6 @@ int sheetReduction(const Display& display, int targetWidth) {
     }
     return std::max(1, (width + targetWidth - 1) / targetWidth);
 }
-
-std::string partialFolderName(int index) { return '.' + frameFolderName(index) + ".partial"; }
 
 ScenePose scenePoseOf(const SequenceJob& job, int index) {
     const CameraPose& pose = job.poses[static_cast<std::size_t>(index)];
@@ -176,8 +175,9 @@ std::vector<bool> imagesOfRank(const SequenceShare& share, std::size_t wallCount
 }
 
 /// Writes a collected frame into its hidden folder (images encoded on worker threads), then
-/// renames the folder into place. Under the walls distribution a rank writes only its walls
-/// (write(frame, false)), and rank 0 finishes the frame once all are written (finish).
+/// renames the folder into place. A rank that shares the frame writes only its images
+/// (write(frame, false)): its walls under the walls distribution, the whole frame but the sheet
+/// under the frames distribution; rank 0 finishes the frame once all are written (finish).
 class FrameWriter {
 public:
     FrameWriter(const SequenceJob& job, const fs::path& folder, const SequenceHooks& hooks, std::vector<bool> mine)
@@ -186,15 +186,14 @@ public:
           mThreads(std::max(1u, std::thread::hardware_concurrency())) {}
 
     /// The frame's images (this rank's), and with `isWhole` its sheet and its move into place.
-    void write(FrameInFlight& frame, bool isWhole) {
-        const fs::path partial = mFolder / partialFolderName(frame.index);
-        if (isWhole) fs::remove_all(partial);  // shared frames: rank 0 cleared it before any rank began
+    /// Returns the walls reduced for the sheet when not whole (empty for other ranks' walls).
+    std::vector<RgbaImage> write(FrameInFlight& frame, bool isWhole) {
+        const fs::path partial = mFolder / partialFrameFolderName(frame.index);  // cleared by rank 0 before any began
         try {
             std::vector<RgbaImage> reduced = writeImages(frame, partial);
-            if (isWhole) {
-                writeSheet(partial, std::move(reduced));
-                fs::rename(partial, mFolder / frameFolderName(frame.index));
-            }
+            if (!isWhole) return reduced;
+            finish(frame.index, partial, std::move(reduced));
+            return {};
         } catch (...) {
             std::error_code ignored;
             fs::remove_all(partial, ignored);
@@ -202,10 +201,16 @@ public:
         }
     }
 
-    /// Rank 0 under the walls distribution, once every rank wrote its walls of frame `index`:
-    /// the sheet from the files, and the frame into place.
-    void finish(int index) {
-        const fs::path partial = mFolder / partialFolderName(index);
+    /// The sheet of frame `index` from its walls reduced for it (eye after eye), into `hidden`
+    /// where the frame's images are, and the frame into place.
+    void finish(int index, const fs::path& hidden, std::vector<RgbaImage> reduced) {
+        writeSheet(hidden, std::move(reduced));
+        fs::rename(hidden, mFolder / frameFolderName(index));
+    }
+
+    /// Rank 0 under the walls distribution, once every rank wrote its walls of frame `index` in
+    /// `partial`: the sheet from the files, and the frame into place.
+    void finish(int index, const fs::path& partial) {
         const auto& walls = mJob.display.walls;
         std::vector<RgbaImage> reduced(2 * walls.size());
         std::vector<std::function<void()>> tasks;
@@ -217,8 +222,7 @@ public:
             });
         }
         runParallel(tasks, mThreads);
-        writeSheet(partial, std::move(reduced));
-        fs::rename(partial, mFolder / frameFolderName(index));
+        finish(index, partial, std::move(reduced));
     }
 
 private:
@@ -317,6 +321,20 @@ std::string frameFolderName(int index) {
     return name.str();
 }
 
+std::string partialFrameFolderName(int index) { return '.' + frameFolderName(index) + ".partial"; }
+
+std::string writtenFrameFolderName(int index) { return '.' + frameFolderName(index) + ".written"; }
+
+std::vector<int> framesOfRank(const std::vector<int>& pending, const SequenceShare& share, int rank) {
+    if (share.ranks <= 1 || share.distribution == Distribution::Walls) return pending;
+    std::vector<int> frames;
+    for (std::size_t i = static_cast<std::size_t>(std::max(rank, 0)); i < pending.size();
+         i += static_cast<std::size_t>(share.ranks)) {
+        frames.push_back(pending[i]);
+    }
+    return frames;
+}
+
 void checkSequenceOutput(const SequenceJob& job, const SequenceOutput& output) {
     const fs::path folder(output.folder);
     if (fs::exists(folder) && !fs::is_directory(folder)) {
@@ -383,12 +401,17 @@ std::string sequenceManifest(const SequenceJob& job) {
 SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, const SequenceOutput& output,
                                const SequenceHooks& hooks, const SequenceShare& share) {
     validateDisplay(job.display);
-    if (share.ranks < 1 || share.rank < 0 || share.rank >= share.ranks || (share.ranks > 1 && !share.barrier)) {
-        throw std::invalid_argument("sequence share: rank " + std::to_string(share.rank) + " of " +
-                                    std::to_string(share.ranks) + " (a shared sequence needs a barrier)");
-    }
     const bool isShared = share.ranks > 1;
     const bool isSharingWalls = isShared && share.distribution == Distribution::Walls;
+    const bool isSharingFrames = isShared && !isSharingWalls;
+    const bool hasMessages = share.rank == 0 ? static_cast<bool>(share.takeFrameWritten)
+                                             : static_cast<bool>(share.reportFrameWritten);
+    if (share.ranks < 1 || share.rank < 0 || share.rank >= share.ranks || (isShared && !share.barrier) ||
+        (isSharingFrames && !hasMessages)) {
+        throw std::invalid_argument("sequence share: rank " + std::to_string(share.rank) + " of " +
+                                    std::to_string(share.ranks) +
+                                    " (a shared sequence needs a barrier, and sharing frames a way to tell rank 0)");
+    }
     if (isSharingWalls && share.ranks > static_cast<int>(job.display.walls.size())) {
         throw std::invalid_argument("walls distribution: " + std::to_string(share.ranks) + " ranks for a display of " +
                                     std::to_string(job.display.walls.size()) +
@@ -409,20 +432,23 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
     }
     SequenceSummary summary;
     for (int index : pending) {
-        if (fs::exists(folder / partialFolderName(index))) summary.framesLeftHalfWritten.push_back(index);
+        if (fs::exists(folder / partialFrameFolderName(index)) || fs::exists(folder / writtenFrameFolderName(index))) {
+            summary.framesLeftHalfWritten.push_back(index);
+        }
     }
-    barrier();  // every rank looked before any clears a hidden folder
-    if (isSharingWalls && share.rank == 0) {
-        for (int index : pending) fs::remove_all(folder / partialFolderName(index));  // left by a run that stopped
+    barrier();  // every rank looked before rank 0 clears the hidden folders
+    if (share.rank == 0) {
+        for (int index : pending) {  // left by a run that stopped
+            fs::remove_all(folder / partialFrameFolderName(index));
+            fs::remove_all(folder / writtenFrameFolderName(index));
+        }
     }
     barrier();
     const auto start = std::chrono::steady_clock::now();
 
     summary.framesKept = total - static_cast<int>(pending.size());
-    std::vector<int> mine;  // the frames this rank renders
-    for (std::size_t i = 0; i < pending.size(); ++i) {
-        if (isSharingWalls || static_cast<int>(i % static_cast<std::size_t>(share.ranks)) == share.rank) mine.push_back(pending[i]);
-    }
+    const std::vector<int> mine = framesOfRank(pending, share, share.rank);
+    if (hooks.onPendingFrames) hooks.onPendingFrames(pending);
     // Rank 0 reports the whole job: the frames finished in the folder, whoever wrote them.
     const auto reportProgress = [&] {
         if (share.rank != 0 || !hooks.onProgress) return;
@@ -482,13 +508,50 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
             hooks.onFrame(frame.index, labelledWalls(job.display, kStereoEyes, std::move(stereo)));
         }
     };
+    // Rank 0 of a shared run: the sheet of a frame whose walls other ranks rendered, timed.
+    const auto finishTimed = [&](const std::function<void()>& finish) {
+        const auto sheetStart = std::chrono::steady_clock::now();
+        finish();
+        summary.sheetsOfOtherRanksSeconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - sheetStart).count();
+        ++summary.sheetsOfOtherRanks;
+    };
+    // Rank 0 under the frames distribution: the frames the others reported written.
+    const int othersFrames = isSharingFrames && share.rank == 0 ? static_cast<int>(pending.size() - mine.size()) : 0;
+    int othersFinished = 0;
+    const auto finishOthersFrames = [&] {
+        if (othersFinished == othersFrames) return;
+        while (std::optional<std::vector<unsigned char>> message = share.takeFrameWritten()) {
+            SheetWalls written = unpackSheetWalls(*message);
+            if (written.walls.size() != stereoCount || written.frameIndex < 0 || written.frameIndex >= total) {
+                throw SheetWallsMessageError("sheet walls message: frame " + std::to_string(written.frameIndex) +
+                                             " with " + std::to_string(written.walls.size()) + " walls, not " +
+                                             std::to_string(stereoCount));
+            }
+            finishTimed([&] {
+                writer.finish(written.frameIndex, folder / writtenFrameFolderName(written.frameIndex),
+                              std::move(written.walls));
+            });
+            ++othersFinished;
+            reportProgress();
+        }
+    };
     const auto writeFrame = [&](FrameInFlight& frame) {
-        writer.write(frame, !isSharingWalls);
         if (isSharingWalls) {
+            writer.write(frame, false);
             barrier();  // every rank's walls of this frame are written
-            if (share.rank == 0) writer.finish(frame.index);
+            if (share.rank == 0) {
+                finishTimed([&] { writer.finish(frame.index, folder / partialFrameFolderName(frame.index)); });
+            }
+        } else if (share.rank == 0) {
+            writer.write(frame, true);
+        } else {
+            std::vector<RgbaImage> reduced = writer.write(frame, false);
+            fs::rename(folder / partialFrameFolderName(frame.index), folder / writtenFrameFolderName(frame.index));
+            share.reportFrameWritten(packSheetWalls({frame.index, std::move(reduced)}));
         }
         reportProgress();
+        finishOthersFrames();
     };
 
     std::unique_ptr<FrameInFlight> ready;  // collected, not yet written
@@ -500,6 +563,11 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
         ready = std::move(next);
     }
     if (ready) writeFrame(*ready);
+    while (othersFinished < othersFrames) {
+        throwIfCancelled(hooks);
+        finishOthersFrames();
+        if (othersFinished < othersFrames) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
     barrier();  // every rank's frames are in place
     summary.framesRendered = static_cast<int>(pending.size());
     if (isShared) reportProgress();  // the other ranks' last frames

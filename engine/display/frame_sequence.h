@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -69,12 +70,20 @@ struct SequenceHooks {
     /// Called with each frame's stereo wall images (hits included when asked for) before they
     /// are written, so an analysis can use them without reading files back.
     std::function<void(int frameIndex, const std::vector<WallImage>& images)> onFrame;
+    /// Called on every rank once the frames still to render are known (ascending), before the
+    /// first is rendered: with framesOfRank, what each rank will do.
+    std::function<void(const std::vector<int>& pendingFrames)> onPendingFrames;
 };
 
 /// How the frames x eyes x walls of a sequence are split between the processes of one run (MPI
-/// ranks; the engine knows only their number, its own and how to wait for all of them).
+/// ranks; the engine knows only their number, its own, how to wait for all of them and how to
+/// tell rank 0 that a frame is written).
 ///  - Frames (the default): rank r renders and writes the pending frames r, r + ranks, ...
-///    whole (both eyes, every wall, the sheet).
+///    (both eyes, every wall, the before/after walls) into the frame's hidden folder. Rank 0
+///    writes every sheet and moves every frame into place: its own frames' from its images;
+///    another rank's once that rank renamed the folder .frame_NNNN.written and sent it the
+///    walls reduced for the sheet (a message: reportFrameWritten, takeFrameWritten). Its
+///    progress counts the frames of every rank.
 ///  - Walls (the method's cabin cluster): rank r renders and writes wall w of every frame, both
 ///    eyes, for every w with w % ranks == r; rank 0 also renders the before/after walls, and
 ///    once every wall of a frame is written (a barrier) composes its sheet from the files and
@@ -89,7 +98,17 @@ struct SequenceShare {
     Distribution distribution = Distribution::Frames;
     /// Returns once every rank has called it; needed when ranks > 1.
     std::function<void()> barrier;
+    /// Frames distribution, ranks other than 0: sends `message` to rank 0 (a frame this rank
+    /// wrote: its index and its walls reduced for the sheet) without waiting for it.
+    std::function<void(std::vector<unsigned char> message)> reportFrameWritten;
+    /// Frames distribution, rank 0: a message another rank sent, if one has arrived (never waits).
+    std::function<std::optional<std::vector<unsigned char>>()> takeFrameWritten;
 };
+
+/// The frames of `pending` (ascending) that `rank` renders under `share`'s distribution: every
+/// pending frame under Walls (its walls of each), every ranks-th one from the rank-th under
+/// Frames.
+std::vector<int> framesOfRank(const std::vector<int>& pending, const SequenceShare& share, int rank);
 
 /// What one run did, for the summary line.
 struct SequenceSummary {
@@ -99,6 +118,10 @@ struct SequenceSummary {
     std::vector<int> framesLeftHalfWritten;  // by a run that stopped (their hidden folders): rendered again
     double seconds = 0.0;
     double rayCastingMs = 0.0;  // device time of the stereo wall images' dispatches (before/after excluded)
+    // Rank 0 of a shared run: the sheets it wrote of frames whose walls other ranks rendered,
+    // and the time that took (the serial part of a shared run: docs/benchmarks.md).
+    int sheetsOfOtherRanks = 0;
+    double sheetsOfOtherRanksSeconds = 0.0;
 };
 
 /// The manifest (render.json) of `job`: everything that determines the images, so that
@@ -128,5 +151,9 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
 
 /// The folder name of frame `index`: frame_0000, frame_0001, ...
 std::string frameFolderName(int index);
+/// The hidden folder of a frame that is being written: .frame_0000.partial, ...
+std::string partialFrameFolderName(int index);
+/// The hidden folder of a frame another rank wrote, waiting for rank 0's sheet: .frame_0000.written, ...
+std::string writtenFrameFolderName(int index);
 
 }  // namespace engine

@@ -1,13 +1,14 @@
 // `mpirun -np 2 cvc render --display` as a cluster runs it: the output folder equals the
 // single-process folder byte for byte under both distributions (and under one rank), coverage
 // and the polyp check give what one process gives, other commands are refused, and a rank killed
-// mid-run stops the job with mpirun naming the rank, keeps the finished frames, and `--resume`
+// mid-run stops the job with rank 0 naming the rank and its frame, keeps the finished frames, and `--resume`
 // with one process completes the folder to equal a clean run.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <string>
 #include <thread>
 
@@ -87,6 +88,10 @@ TEST(CvcMpiRender, TwoRanksWriteTheSingleProcessFolderUnderBothDistributions) {
         std::size_t summaries = 0;
         for (std::size_t at = run.out.find("rendered "); at != std::string::npos; at = run.out.find("rendered ", at + 1)) ++summaries;
         EXPECT_EQ(summaries, 1u) << run.out;
+        // Rank 0 writes every sheet: of 3 frames, that of rank 1's frame 1 (frames) or all 3,
+        // where rank 1 rendered the back and right walls (walls).
+        const std::string sheets = distribution == "frames" ? "wrote 1 sheet(s)" : "wrote 3 sheet(s)";
+        EXPECT_NE(run.out.find("rank 0 " + sheets + " of other ranks' walls"), std::string::npos) << run.out;
         expectSameFolders(reference(3), out);
     }
 }
@@ -166,18 +171,41 @@ TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
     const auto run = runCvc(renderArguments(out, kFrames, "--distribute frames"), kMpirun);
     watcher.join();
     EXPECT_NE(run.exitCode, 0);
-    EXPECT_NE(run.err.find("rank 1"), std::string::npos) << run.err;
     int kept = 0;
     for (int i = 0; i < kFrames; ++i) kept += fs::is_directory(out / frameName(i)) ? 1 : 0;
     EXPECT_GE(kept, 1);
     EXPECT_LT(kept, kFrames) << "the run was not stopped before its end";
-    std::string halfWritten;  // " 3 5": the hidden folders of frames being written when the job stopped
+    // Rank 0 names the rank that died and the frame it was at: one of rank 1's (the odd frames
+    // of a fresh run of two ranks) that is not in place, and counts the frames kept.
+    const std::smatch named = [&] {
+        std::smatch match;
+        std::regex_search(run.err, match, std::regex(R"(rank 1 \(pid [0-9]+\) ended while at frame ([0-9]+))"));
+        return match;
+    }();
+    ASSERT_FALSE(named.empty()) << run.err;
+    const int frameAt = std::stoi(named[1].str());
+    EXPECT_EQ(frameAt % 2, 1) << run.err;
+    const auto isWritten = [&](int frame) {  // in place, or written by rank 1 and waiting for rank 0's sheet
+        std::string written = ".";  // appended piece by piece: GCC 12 warns (-Wrestrict) on "." + a + b
+        written += frameName(frame);
+        written += ".written";
+        return fs::is_directory(out / frameName(frame)) || fs::is_directory(out / written);
+    };
+    EXPECT_FALSE(isWritten(frameAt)) << run.err;
+    for (int frame = 1; frame < frameAt; frame += 2) {
+        EXPECT_TRUE(isWritten(frame)) << "rank 1 had not written frame " << frame << ", before the one named";
+    }
+    EXPECT_NE(run.err.find(std::to_string(kept) + " of " + std::to_string(kFrames) + " frames are finished"),
+              std::string::npos)
+        << run.err;
+    // " 3 5": the hidden folders of frames being written when the job stopped, or written by
+    // rank 1 and waiting for rank 0's sheet.
+    std::string halfWritten;
     for (int i = 0; i < kFrames; ++i) {
         // Appended piece by piece: GCC 12 warns (-Wrestrict) on "." + a + b.
         std::string hidden = ".";
         hidden += frameName(i);
-        hidden += ".partial";
-        if (!fs::exists(out / hidden)) continue;
+        if (!fs::exists(out / (hidden + ".partial")) && !fs::exists(out / (hidden + ".written"))) continue;
         halfWritten += ' ';
         halfWritten += std::to_string(i);
     }

@@ -290,3 +290,23 @@ TEST_F(FrameSequence, HitsLieOnTheIsoSurfaceAndReprojectToTheirPixelsMissesAreNa
 }
 
 }  // namespace
+
+namespace {
+
+TEST(FrameSequenceShare, FramesAreDealtRoundRobinOverThePendingOnesAndWallsGiveEveryRankEachFrame) {
+    const std::vector<int> pending = {0, 2, 3, 5, 8};  // 1, 4, 6 and 7 were kept by an earlier run
+    engine::SequenceShare share;
+    share.ranks = 2;
+    EXPECT_EQ(engine::framesOfRank(pending, share, 0), (std::vector<int>{0, 3, 8}));
+    EXPECT_EQ(engine::framesOfRank(pending, share, 1), (std::vector<int>{2, 5}));
+    share.ranks = 7;  // more ranks than frames: the last ones have none
+    EXPECT_EQ(engine::framesOfRank(pending, share, 4), (std::vector<int>{8}));
+    EXPECT_TRUE(engine::framesOfRank(pending, share, 6).empty());
+    share.distribution = engine::Distribution::Walls;
+    EXPECT_EQ(engine::framesOfRank(pending, share, 3), pending);
+    share.ranks = 1;
+    share.distribution = engine::Distribution::Frames;
+    EXPECT_EQ(engine::framesOfRank(pending, share, 0), pending);
+}
+
+}  // namespace
