@@ -2,6 +2,8 @@
 /// ceiling a ray caster's sampling rate is measured against (scripts/bench_raycaster.py).
 /// `cvc_bench png`: the time and size of PNG encodings of a rendered wall, to choose the
 /// display sequence's settings (scripts/bench_flythrough.sh).
+/// `cvc_bench warp`: the warp's own cost, through an identity cube map (bench/warp_bench.h,
+/// scripts/bench_warp_cost.sh).
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -17,6 +19,7 @@
 #include "engine/core/gpu_context.h"
 #include "engine/output/png_writer.h"
 #include "engine/render/volume_texture.h"
+#include "bench/warp_bench.h"
 #include "sampling_ceiling_spv.h"
 #include "volumes/load_volume.h"
 
@@ -117,6 +120,21 @@ int main(int argc, char** argv) {
     png->add_option("image", imagePath, "A PNG, e.g. a rendered wall")->required();
     png->add_option("--runs", runs, "Repetitions (the median is reported)")->capture_default_str();
     png->callback([&] { runPng(imagePath, runs); });
+    bench::WarpBenchRequest warp;
+    CLI::App* warpCommand = program.add_subcommand(
+        "warp", "Device time of a stereo display frame through its map, an identity cube map and no warp");
+    warpCommand->add_option("volume", warp.volumePath, "Volume file")->required();
+    warpCommand->add_option("--display", warp.display, "Display preset or JSON")->capture_default_str();
+    warpCommand->add_option("--path", warp.pathFile, "Path with ground truth (e.g. a phantom's JSON)")->required();
+    warpCommand->add_option("--polyp", warp.polyp, "The polyp whose viewing pose is rendered")->capture_default_str();
+    warpCommand->add_option("--polyp-elevation", warp.polypElevationDeg, "Its elevation in degrees")
+        ->capture_default_str();
+    warpCommand->add_option("--scale", warp.mmPerMetre, "Scene millimetres per CAVE metre")->capture_default_str();
+    warpCommand->add_option("--map-size", warp.mapSize, "Cube-map texels per face edge")->capture_default_str();
+    warpCommand->add_option("--runs", warp.runs, "Repetitions of each mode (medians are reported)")
+        ->capture_default_str();
+    warpCommand->add_option("--device", warp.device, "Vulkan device");
+    warpCommand->callback([&] { bench::runWarpBench(warp); });
     try {
         program.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,131 @@
+#include "bench/warp_bench.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <map>
+#include <stdexcept>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "conformal/cube_map_baker.h"
+#include "conformal/direction_map.h"
+#include "engine/core/gpu_context.h"
+#include "engine/display/camera_path.h"
+#include "engine/display/display_json.h"
+#include "engine/display/display_map.h"
+#include "engine/display/frame_sequence.h"
+#include "engine/render/raycaster.h"
+#include "engine/render/volume_texture.h"
+#include "volumes/brick_minmax.h"
+#include "volumes/load_volume.h"
+
+namespace bench {
+namespace {
+
+/// F = identity: every display direction shows the scene direction it points at.
+class IdentityMap final : public conformal::DirectionMap {
+public:
+    glm::dvec3 sceneFromDisplay(const glm::dvec3& display) const override { return glm::normalize(display); }
+    glm::dvec3 displayFromScene(const glm::dvec3& scene) const override { return glm::normalize(scene); }
+};
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+/// The largest channel difference of two renders of the same walls, and the share of pixels
+/// more than 2 levels apart.
+std::pair<int, double> imageDifference(const std::vector<engine::WallImage>& a, const std::vector<engine::WallImage>& b) {
+    int largest = 0;
+    std::size_t apart = 0, pixels = 0;
+    for (std::size_t w = 0; w < a.size() && w < b.size(); ++w) {
+        const auto& x = a[w].image.rgba;
+        const auto& y = b[w].image.rgba;
+        if (x.size() != y.size()) throw std::runtime_error("warp bench: images of different sizes");
+        for (std::size_t p = 0; p + 3 < x.size(); p += 4) {
+            int pixel = 0;
+            for (int c = 0; c < 3; ++c) pixel = std::max(pixel, std::abs(static_cast<int>(x[p + c]) - static_cast<int>(y[p + c])));
+            largest = std::max(largest, pixel);
+            apart += pixel > 2 ? 1 : 0;
+            ++pixels;
+        }
+    }
+    return {largest, pixels > 0 ? static_cast<double>(apart) / static_cast<double>(pixels) : 0.0};
+}
+
+}  // namespace
+
+void runWarpBench(const WarpBenchRequest& request) {
+    if (request.runs < 1 || request.runs > 1000) throw std::invalid_argument("--runs must be 1 to 1000");
+    const volumes::Volume volume = volumes::loadVolume(request.volumePath);
+    const volumes::BrickMinMax bricks = volumes::buildBrickMinMax(volume);
+    const engine::Display display = engine::loadDisplay(request.display);
+    engine::PoseRequest poseRequest;
+    poseRequest.pathFile = request.pathFile;
+    poseRequest.polyp = request.polyp;
+    poseRequest.polypElevationDeg = request.polypElevationDeg;
+    const engine::CameraPose pose = engine::posesFor(poseRequest).at(0);
+    const engine::ScenePose scenePose{pose.positionMm, pose.forward, pose.up, request.mmPerMetre};
+
+    engine::GpuContext context(engine::GpuContextOptions{false, request.device});
+    engine::VolumeTexture texture(context, volume);
+    engine::Raycaster raycaster(context, volume, texture, bricks);
+    const conformal::CubeMap map = engine::cubeMapFor(display, request.mapSize, "");
+    const conformal::CubeMap identity =
+        conformal::bakeCubeMap(IdentityMap{}, engine::bakeSettingsFor(display, map.size).box, map.kind, map.size);
+
+    // cvc render --display's defaults for display frames (app/render_command.cpp).
+    engine::RenderSettings settings;
+    settings.stepVoxels = 1.0;
+    settings.lightHalfDistanceMm = 25.0;
+    settings.gradient = engine::GradientFilter::Central;
+    const engine::Eye eyes[] = {engine::Eye::Left, engine::Eye::Right};
+    const std::array<std::string, 3> modes = {"conformal", "identity", "none"};
+    const auto renderMode = [&](const std::string& mode) {
+        if (mode != "none") raycaster.setCubeMap(map.size, mode == "conformal" ? map.rgba : identity.rgba);
+        return engine::renderWalls(raycaster, display, scenePose, eyes, settings,
+                                   mode == "none" ? engine::WarpMode::None : engine::WarpMode::Chord);
+    };
+    const auto deviceMs = [](const std::vector<engine::WallImage>& walls) {
+        double ms = 0.0;
+        for (const auto& wall : walls) ms += std::max(wall.image.deviceMs, 0.0);
+        return ms;
+    };
+
+    std::map<std::string, std::vector<double>> times;
+    for (const auto& mode : modes) renderMode(mode);  // warm: pipelines built, caches filled
+    const auto [largest, apart] = imageDifference(renderMode("identity"), renderMode("none"));
+    for (int run = 0; run < request.runs; ++run) {
+        for (std::size_t k = 0; k < modes.size(); ++k) {  // each run starts with another mode
+            const std::string& mode = modes[(k + static_cast<std::size_t>(run)) % modes.size()];
+            times[mode].push_back(deviceMs(renderMode(mode)));
+            std::cerr << "warp: run " << run + 1 << "/" << request.runs << ", " << mode << ": " << times[mode].back()
+                      << " ms\n";
+        }
+    }
+    std::vector<double> identityRatio, conformalRatio;
+    for (int run = 0; run < request.runs; ++run) {
+        identityRatio.push_back(times["identity"][run] / times["none"][run]);
+        conformalRatio.push_back(times["conformal"][run] / times["none"][run]);
+    }
+    nlohmann::json out;
+    out["display"] = request.display;
+    out["map_size"] = map.size;
+    out["device"] = context.driverDescription();
+    out["device_ms"] = times;
+    for (const auto& mode : modes) out["median_ms"][mode] = median(times[mode]);
+    out["median_ratio"] = {{"identity_over_none", median(identityRatio)},
+                           {"conformal_over_none", median(conformalRatio)}};
+    out["ratios"] = {{"identity_over_none", identityRatio}, {"conformal_over_none", conformalRatio}};
+    out["identity_against_none"] = {{"largest_channel_difference", largest}, {"pixels_over_2_levels", apart}};
+    std::cout << out.dump(2) << '\n';
+}
+
+}  // namespace bench

@@ -1,0 +1,28 @@
+/// @brief `cvc_bench warp`: the warp's own cost. One stereo display frame rendered three ways,
+/// alternating: through the display's map (the baked cube map, chord warp), through an identity
+/// cube map of the same size and format (the same texture fetches and arithmetic, but straight
+/// rays: the same geometry as no warp), and without the warp. identity / none is what the warp
+/// costs; conformal / none adds what the bent rays see differently.
+#pragma once
+
+#include <string>
+
+namespace bench {
+
+struct WarpBenchRequest {
+    std::string volumePath;
+    std::string display = "ic5";
+    std::string pathFile;  // with polyp: the pose viewing that polyp
+    int polyp = 0;
+    double polypElevationDeg = 50.0;
+    double mmPerMetre = 10.0;
+    int mapSize = 1024;
+    int runs = 5;
+    std::string device;
+};
+
+/// Prints the device time of each run and mode, their medians, the paired ratios' medians, and
+/// how far the identity-warped images are from the unwarped ones, as one JSON object on stdout.
+void runWarpBench(const WarpBenchRequest& request);
+
+}  // namespace bench
