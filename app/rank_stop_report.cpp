@@ -33,7 +33,9 @@ public:
         char digits[24];
         int count = 0;
         const bool isNegative = value < 0;
-        unsigned long magnitude = isNegative ? 0UL - static_cast<unsigned long>(value) : static_cast<unsigned long>(value);
+        // The magnitude in unsigned arithmetic, so that the most negative long has one too.
+        unsigned long magnitude = static_cast<unsigned long>(value);
+        if (isNegative) magnitude = 0UL - magnitude;
         do {
             digits[count++] = static_cast<char>('0' + magnitude % 10);
             magnitude /= 10;

@@ -42,7 +42,8 @@ double median(std::vector<double> values) {
 
 /// The largest channel difference of two renders of the same walls, and the share of pixels
 /// more than 2 levels apart.
-std::pair<int, double> imageDifference(const std::vector<engine::WallImage>& a, const std::vector<engine::WallImage>& b) {
+std::pair<int, double> imageDifference(const std::vector<engine::WallImage>& a,
+                                       const std::vector<engine::WallImage>& b) {
     int largest = 0;
     std::size_t apart = 0, pixels = 0;
     for (std::size_t w = 0; w < a.size() && w < b.size(); ++w) {
@@ -51,7 +52,9 @@ std::pair<int, double> imageDifference(const std::vector<engine::WallImage>& a, 
         if (x.size() != y.size()) throw std::runtime_error("warp bench: images of different sizes");
         for (std::size_t p = 0; p + 3 < x.size(); p += 4) {
             int pixel = 0;
-            for (int c = 0; c < 3; ++c) pixel = std::max(pixel, std::abs(static_cast<int>(x[p + c]) - static_cast<int>(y[p + c])));
+            for (int c = 0; c < 3; ++c) {
+                pixel = std::max(pixel, std::abs(static_cast<int>(x[p + c]) - static_cast<int>(y[p + c])));
+            }
             largest = std::max(largest, pixel);
             apart += pixel > 2 ? 1 : 0;
             ++pixels;

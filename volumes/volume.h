@@ -74,8 +74,9 @@ glm::dvec3 volumeDirectionFromPatient(const Volume& volume, const glm::dvec3& di
 /// Throws VolumeError naming `source` unless dims, spacing, direction and voxel count are sane.
 void validateVolume(const Volume& volume, const std::string& source);
 
-/// validateVolume without the voxel-count check: loaders call it on the header's grid before
-/// they allocate, so a corrupt header never triggers a huge allocation.
+/// validateVolume without looking at the voxels (that hu holds one value per voxel): loaders
+/// call it on the header's grid before they allocate, so a corrupt header (absurd dims, spacing
+/// or direction, more than kMaxVoxelCount voxels) never triggers a huge allocation.
 void validateGeometry(const Volume& volume, const std::string& source);
 
 }  // namespace volumes

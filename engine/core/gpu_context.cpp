@@ -205,23 +205,28 @@ vk::DeviceSize GpuContext::largestAllocationBytes(vk::MemoryPropertyFlags proper
     return allocationBytes > 0 ? std::min(heapBytes, allocationBytes) : heapBytes;
 }
 
+std::string mebibytesText(vk::DeviceSize bytes) {
+    return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
+}
+
 vk::raii::DeviceMemory GpuContext::allocateMemory(const vk::MemoryRequirements& requirements,
                                                   vk::MemoryPropertyFlags properties, const std::string& what) const {
     const vk::DeviceSize largest = largestAllocationBytes(properties);
-    const auto mib = [](vk::DeviceSize bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; };
     if (requirements.size > largest) {
-        throw DeviceMemoryError(what + " needs " + mib(requirements.size) + " in one allocation, more than the " +
-                                    mib(largest) + " that " + mDeviceName + " allows",
+        throw DeviceMemoryError(what + " needs " + mebibytesText(requirements.size) +
+                                    " in one allocation, more than the " + mebibytesText(largest) + " that " +
+                                    mDeviceName + " allows",
                                 largest);
     }
     try {
         return vk::raii::DeviceMemory(
             mDevice, vk::MemoryAllocateInfo(requirements.size, findMemoryType(requirements.memoryTypeBits, properties)));
     } catch (const vk::OutOfDeviceMemoryError&) {
-        throw DeviceMemoryError(what + ": " + mDeviceName + " has not " + mib(requirements.size) + " of memory free",
-                                largest);
+        throw DeviceMemoryError(
+            what + ": " + mDeviceName + " has not " + mebibytesText(requirements.size) + " of memory free", largest);
     } catch (const vk::OutOfHostMemoryError&) {
-        throw DeviceMemoryError(what + ": the host has not " + mib(requirements.size) + " of memory free", largest);
+        throw DeviceMemoryError(what + ": the host has not " + mebibytesText(requirements.size) + " of memory free",
+                                largest);
     }
 }
 

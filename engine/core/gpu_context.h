@@ -39,6 +39,9 @@ private:
     std::vector<std::string> mErrors;
 };
 
+/// `bytes` as whole MiB, rounded up ("3 MiB"), for messages about device memory.
+std::string mebibytesText(vk::DeviceSize bytes);
+
 /// Device memory that cannot be had: more than the device allows in one allocation, or more than
 /// it has free. `largestBytes` is what one allocation may have, for a message saying what would fit.
 class DeviceMemoryError : public std::runtime_error {

@@ -1,5 +1,5 @@
 /// @brief Reading an 8-bit RGBA PNG back (libpng's simplified API): the sheets of a frame whose
-/// walls other processes rendered and wrote.
+/// walls other processes rendered and wrote, and the tests' comparisons of written files.
 #pragma once
 
 #include <string>

@@ -24,11 +24,10 @@ vk::Extent3D extentOf(const volumes::Volume& volume, const GpuContext& context) 
     const vk::DeviceSize largest = context.largestAllocationBytes(vk::MemoryPropertyFlagBits::eDeviceLocal);
     const vk::DeviceSize bytes = VolumeTexture::bytesFor(volume.dims);
     if (bytes > largest) {
-        const auto mib = [](vk::DeviceSize b) { return std::to_string((b + (1u << 20) - 1) >> 20) + " MiB"; };
         throw DeviceMemoryError("a volume of " + std::to_string(volume.dims[0]) + "x" + std::to_string(volume.dims[1]) +
-                                    "x" + std::to_string(volume.dims[2]) + " voxels needs " + mib(bytes) +
-                                    " on the device, and " + context.deviceName() + " allows " + mib(largest) +
-                                    " in one image: at most " +
+                                    "x" + std::to_string(volume.dims[2]) + " voxels needs " +
+                                    mebibytesText(bytes) + " on the device, and " + context.deviceName() + " allows " +
+                                    mebibytesText(largest) + " in one image: at most " +
                                     std::to_string(VolumeTexture::slicesThatFit(volume.dims, largest)) +
                                     " of its slices fit (crop it, or choose a larger --device)",
                                 largest);

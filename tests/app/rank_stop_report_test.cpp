@@ -37,8 +37,8 @@ struct TwoRankFolder {
         fs::create_directories(folder / engine::partialFrameFolderName(3));
     }
     app::RankStopState state(long rank1Pid, const std::string& rank1Host) const {
-        return app::rankStopStateOf(folder.string(), "here", {{"here", static_cast<long>(getpid())}, {rank1Host, rank1Pid}},
-                                    {{0, 2, 4}, {1, 3, 5}}, 6);
+        const std::vector<app::RankProcess> processes = {{"here", static_cast<long>(getpid())}, {rank1Host, rank1Pid}};
+        return app::rankStopStateOf(folder.string(), "here", processes, {{0, 2, 4}, {1, 3, 5}}, 6);
     }
     fs::path folder = testing_support::processTmp("rank_stop_folder");
 };

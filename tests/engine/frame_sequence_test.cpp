@@ -14,10 +14,10 @@
 #include "conformal/cube_map_baker.h"
 #include "engine/display/display.h"
 #include "engine/display/frame_sequence.h"
+#include "engine/output/png_reader.h"
 #include "engine/render/raycaster.h"
 #include "engine/render/volume_texture.h"
 #include "tests/support/gpu_test_fixture.h"
-#include "tests/support/png_read.h"
 #include "volumes/analytic_phantom.h"
 #include "volumes/brick_minmax.h"
 
@@ -183,7 +183,7 @@ TEST_F(FrameSequence, WritesEveryFileAndThePixelsOfEachImageRenderedAlone) {
             const engine::RenderedImage single = scene.raycaster.render(view.rays, alone, view.warp);
             EXPECT_EQ(single.rgba, wall.image.rgba) << png;
             EXPECT_EQ(single.hitMm, wall.image.hitMm) << png;
-            const testing_support::PngPixels file = testing_support::readPng(png.string());
+            const colon::RgbaImage file = engine::readPng(png.string());
             EXPECT_EQ(file.width, single.width);
             EXPECT_EQ(file.rgba, single.rgba) << png;
         }

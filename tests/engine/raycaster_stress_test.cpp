@@ -26,6 +26,7 @@
 #include "engine/render/view_rays.h"
 #include "tests/support/gpu_scene.h"
 #include "tests/support/gpu_test_fixture.h"
+#include "tests/support/pinhole_toward.h"
 #include "volumes/analytic_phantom.h"
 
 namespace {
@@ -94,13 +95,7 @@ engine::ViewRays raysAlong(const glm::dvec3& eye, const glm::dvec3& forward, dou
 }
 
 engine::ViewRays raysToward(const glm::dvec3& eye, const glm::dvec3& target, double fovDeg) {
-    engine::PinholeCamera camera;
-    camera.positionMm = eye;
-    camera.lookAtMm = target;
-    camera.up = std::abs(glm::normalize(target - eye).z) > 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1);
-    camera.verticalFovDeg = fovDeg;
-    camera.width = camera.height = kImageSide;
-    return engine::viewRaysFrom(camera);
+    return engine::viewRaysFrom(testing_support::cameraToward(eye, target, fovDeg, kImageSide));
 }
 
 /// Where the ray from `eye` along `dir` enters the closed box [lo, hi] (slab test in double;

@@ -15,6 +15,7 @@
 #include "tests/support/gpu_scene.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "tests/support/image_compare.h"
+#include "tests/support/pinhole_toward.h"
 #include "volumes/analytic_phantom.h"
 #include "volumes/brick_minmax.h"
 
@@ -46,15 +47,7 @@ volumes::TubeSpec tubeSpec() {
     return spec;
 }
 
-engine::PinholeCamera cameraAt(const glm::dvec3& position, const glm::dvec3& lookAt, double fovDeg, int size) {
-    engine::PinholeCamera camera;
-    camera.positionMm = position;
-    camera.lookAtMm = lookAt;
-    camera.up = std::abs(glm::normalize(lookAt - position).z) > 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1);
-    camera.verticalFovDeg = fovDeg;
-    camera.width = camera.height = size;
-    return camera;
-}
+using testing_support::cameraToward;
 
 engine::RenderSettings isoSettings(double iso, int refinementSteps = 6) {
     engine::RenderSettings settings;
@@ -93,7 +86,7 @@ TEST_F(Raycasting, BallSilhouetteMatchesAnalyticProjection) {
     Scene scene(context(), volumes::makeBallPhantom(spec));
     const double distance = 120.0, fovDeg = 40.0;
     const int size = 400;
-    const auto camera = cameraAt(spec.centreMm - glm::dvec3(0.0, distance, 0.0), spec.centreMm, fovDeg, size);
+    const auto camera = cameraToward(spec.centreMm - glm::dvec3(0.0, distance, 0.0), spec.centreMm, fovDeg, size);
     const auto image = scene.raycaster.render(engine::viewRaysFrom(camera), isoSettings(0.0));
     expectAllFinite(image);
 
@@ -123,7 +116,7 @@ TEST_F(Raycasting, BallHitDepthWithinQuarterVoxelAndRefinementHelps) {
     const glm::dvec3 eyes[] = {spec.centreMm - glm::dvec3(0.0, 120.0, 0.0), spec.centreMm + glm::dvec3(90.0, 40.0, -60.0),
                                spec.centreMm + glm::dvec3(0.0, 0.0, 45.0)};
     for (const glm::dvec3& eye : eyes) {
-        const auto rays = engine::viewRaysFrom(cameraAt(eye, spec.centreMm, 60.0, 256));
+        const auto rays = engine::viewRaysFrom(cameraToward(eye, spec.centreMm, 60.0, 256));
         for (engine::VolumeFilter filter : {engine::VolumeFilter::Trilinear, engine::VolumeFilter::Tricubic}) {
             auto refined = isoSettings(0.0, 6);
             refined.filter = filter;
@@ -148,7 +141,7 @@ TEST_F(Raycasting, TubeSeenFromInsideHitsTheCylinder) {
     const volumes::TubeSpec spec = tubeSpec();
     Scene scene(context(), volumes::makeTubePhantom(spec));
     const glm::dvec3 eye(spec.axisMm.x, spec.axisMm.y, 5.0);
-    auto camera = cameraAt(eye, eye + glm::dvec3(0.1, 0.0, 1.0), 90.0, 256);
+    auto camera = cameraToward(eye, eye + glm::dvec3(0.1, 0.0, 1.0), 90.0, 256);
     camera.up = {0.0, 1.0, 0.0};
     const auto image = scene.raycaster.render(engine::viewRaysFrom(camera), isoSettings(0.5 * (spec.lumenHu + spec.wallHu)));
     expectAllFinite(image);
@@ -162,7 +155,7 @@ TEST_F(Raycasting, TubeSeenFromInsideHitsTheCylinder) {
 TEST_F(Raycasting, SkippingLeavesTheImageUnchanged) {
     const volumes::BallSpec ball = ballSpec();
     Scene scene(context(), volumes::makeBallPhantom(ball));
-    const auto rays = engine::viewRaysFrom(cameraAt(ball.centreMm + glm::dvec3(70, -90, 30), ball.centreMm, 50.0, 200));
+    const auto rays = engine::viewRaysFrom(cameraToward(ball.centreMm + glm::dvec3(70, -90, 30), ball.centreMm, 50.0, 200));
     for (engine::RenderMode mode : {engine::RenderMode::IsoSurface, engine::RenderMode::Composite}) {
         for (bool isJittered : {false, true}) {
             engine::RenderSettings settings = isoSettings(0.0);
@@ -194,7 +187,7 @@ TEST_F(Raycasting, AdaptiveStepAgreesAtATinyStep) {
     const volumes::TubeSpec spec = tubeSpec();
     Scene scene(context(), volumes::makeTubePhantom(spec));
     const glm::dvec3 eye(spec.axisMm.x, spec.axisMm.y, 3.0);
-    auto camera = cameraAt(eye, eye + glm::dvec3(0.0, 0.0, 1.0), 80.0, 160);
+    auto camera = cameraToward(eye, eye + glm::dvec3(0.0, 0.0, 1.0), 80.0, 160);
     const auto rays = engine::viewRaysFrom(camera);
     engine::RenderSettings settings = isoSettings(0.5 * (spec.lumenHu + spec.wallHu));
     settings.stepVoxels = 0.05;
@@ -220,7 +213,7 @@ TEST_F(Raycasting, AdaptiveStepAgreesAtATinyStep) {
 TEST_F(Raycasting, JitterIsReproducibleBySeed) {
     const volumes::BallSpec spec = ballSpec();
     Scene scene(context(), volumes::makeBallPhantom(spec));
-    const auto rays = engine::viewRaysFrom(cameraAt(spec.centreMm - glm::dvec3(0, 100, 0), spec.centreMm, 50.0, 128));
+    const auto rays = engine::viewRaysFrom(cameraToward(spec.centreMm - glm::dvec3(0, 100, 0), spec.centreMm, 50.0, 128));
     engine::RenderSettings settings;
     settings.mode = engine::RenderMode::Composite;
     settings.transferFunction = "bone";
@@ -240,7 +233,7 @@ TEST_F(Raycasting, CompositeOpacityFrontFindsTheBall) {
     // within a voxel of where the ramp crosses the preset's opaque range.
     const volumes::BallSpec spec = ballSpec();
     Scene scene(context(), volumes::makeBallPhantom(spec));
-    const auto rays = engine::viewRaysFrom(cameraAt(spec.centreMm - glm::dvec3(0, 110, 0), spec.centreMm, 50.0, 160));
+    const auto rays = engine::viewRaysFrom(cameraToward(spec.centreMm - glm::dvec3(0, 110, 0), spec.centreMm, 50.0, 160));
     engine::RenderSettings settings;
     settings.mode = engine::RenderMode::Composite;
     settings.transferFunction = "bone";
@@ -266,7 +259,7 @@ TEST_F(Raycasting, NoNaNForCamerasInsideOutsideAndOnTheBox) {
         {glm::dvec3(47.5, -200.0, 47.5), glm::dvec3(47.5, 0.0, 47.5)},
     };
     for (const auto& [eye, target] : views) {
-        const auto rays = engine::viewRaysFrom(cameraAt(eye, target, 90.0, 65));  // odd size: an exact centre pixel
+        const auto rays = engine::viewRaysFrom(cameraToward(eye, target, 90.0, 65));  // odd size: an exact centre pixel
         for (engine::RenderMode mode : {engine::RenderMode::IsoSurface, engine::RenderMode::Composite}) {
             engine::RenderSettings settings = isoSettings(0.0);
             settings.mode = mode;
