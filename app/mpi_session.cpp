@@ -21,7 +21,7 @@ namespace {
 
 MpiSession* gSession = nullptr;
 
-/// The tag of the values sent to rank 0 (the collectives use none).
+/// The tag of the messages sent to rank 0 (the collectives use none).
 constexpr int kToRootTag = 1;
 
 /// An integer from the environment, or `fallback`.

@@ -3,9 +3,10 @@
 // time), and the block's size matches. A member renamed, reordered or retyped on one side only
 // fails here, not as a wrong picture.
 #include <cstddef>
+#include <cstdlib>
 #include <fstream>
 #include <map>
-#include <regex>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -34,24 +35,40 @@ const std::map<std::string, std::size_t> kCppOffsets = {
 
 #undef CVC_MEMBER
 
+/// The number glslang writes right after `key` in `line` ("offset 16,"), if `key` is there.
+/// Parsed by hand: GCC 12's <regex> draws -Wmaybe-uninitialized warnings at -O1.
+std::optional<long> numberAfter(const std::string& line, const std::string& key) {
+    const std::size_t at = line.find(key);
+    if (at == std::string::npos) return std::nullopt;
+    const char* start = line.c_str() + at + key.size();
+    char* end = nullptr;
+    const long value = std::strtol(start, &end, 10);
+    if (end == start || *end != ',') return std::nullopt;
+    return value;
+}
+
 TEST(UniformLayout, EveryOffsetEqualsTheCompiledShadersReflection) {
     std::ifstream in(CVC_RAYCAST_REFLECTION);
     ASSERT_TRUE(in) << "cannot read " << CVC_RAYCAST_REFLECTION;
-    const std::regex member(R"(^(u\.\w+): offset (-?\d+),)");
-    const std::regex block(R"(^Uniforms: offset -?\d+, type \w+, size (\d+),)");
-    std::map<std::string, std::size_t> reflected;
-    std::size_t blockSize = 0;
+    // Lines such as "u.eyeMm: offset 0, type ..." and "Uniforms: offset -1, type ..., size 256, ...".
+    std::map<std::string, long> reflected;
+    long blockSize = 0;
     for (std::string line; std::getline(in, line);) {
-        std::smatch match;
-        if (std::regex_search(line, match, member)) reflected[match[1]] = std::stoul(match[2]);
-        if (std::regex_search(line, match, block)) blockSize = std::stoul(match[1]);
+        const std::size_t colon = line.find(": offset ");
+        if (colon == std::string::npos) continue;
+        const std::string name = line.substr(0, colon);
+        if (name.rfind("u.", 0) == 0 && name.size() > 2) {
+            if (const auto offset = numberAfter(line, ": offset ")) reflected[name] = *offset;
+        } else if (name == "Uniforms") {
+            if (const auto size = numberAfter(line, ", size ")) blockSize = *size;
+        }
     }
     ASSERT_FALSE(reflected.empty()) << "no uniform members in " << CVC_RAYCAST_REFLECTION;
-    EXPECT_EQ(blockSize, sizeof(shaders::RaycastUniforms));
+    EXPECT_EQ(blockSize, static_cast<long>(sizeof(shaders::RaycastUniforms)));
     for (const auto& [name, offset] : reflected) {
         const auto found = kCppOffsets.find(name);
         ASSERT_NE(found, kCppOffsets.end()) << name << " is in the shader but not in the C++ table";
-        EXPECT_EQ(found->second, offset) << name << ": C++ offset " << found->second << ", shader offset " << offset;
+        EXPECT_EQ(static_cast<long>(found->second), offset) << name << ": C++ offset " << found->second << ", shader offset " << offset;
     }
     for (const auto& [name, offset] : kCppOffsets) {
         EXPECT_TRUE(reflected.count(name)) << name << " (C++ offset " << offset << ") is not read by the shader";
