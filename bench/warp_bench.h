@@ -1,8 +1,9 @@
-/// @brief `cvc_bench warp`: the warp's own cost. One stereo display frame rendered three ways,
+/// @brief `cvc_bench warp`: the warp's own cost. One stereo display frame rendered four ways,
 /// alternating: through the display's map (the baked cube map, chord warp), through an identity
 /// cube map of the same size and format (the same texture fetches and arithmetic, but straight
-/// rays: the same geometry as no warp), and without the warp. identity / none is what the warp
-/// costs; conformal / none adds what the bent rays see differently.
+/// rays: the same geometry as no warp) reading the chord table and fetching per ray, and
+/// without the warp. identity / none is what the warp costs; conformal / none adds what the
+/// bent rays see differently.
 #pragma once
 
 #include <string>

@@ -3,7 +3,8 @@
 # The warp's own cost (docs/benchmarks.md, "The warp's own cost"): at the demo's pose (colon
 # phantom, polyp 3 ahead at 50 degrees) one stereo ic5 frame's ray-casting device time through
 # the conformal map, through an identity cube map of the same size and format (straight rays
-# at the warp's price), and without the warp, alternating; medians and paired ratios as JSON.
+# at the warp's price; reading the chord table, and fetching per ray as before the table), and
+# without the warp, alternating; medians and paired ratios as JSON.
 # A benchmark, not a test: CI does not run it.
 set -euo pipefail
 cd "$(dirname "$0")/.."

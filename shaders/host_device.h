@@ -24,6 +24,7 @@ using uint = std::uint32_t;
 #define CVC_BINDING_SKIP_DISTANCE 4  // the empty-space distance map
 #define CVC_BINDING_TRANSFER_FUNCTION 5
 #define CVC_BINDING_CUBE_MAP 6
+#define CVC_BINDING_CHORD_TABLE 7  // per pixel, the cube-map texels of a chord's two ends
 
 // Specialization constants: choices fixed per pipeline, so a variant carries no code (and no
 // fetches) for features it does not use.
@@ -34,6 +35,7 @@ using uint = std::uint32_t;
 #define CVC_SPEC_ADAPTIVE 4    // 1: adaptive step size
 #define CVC_SPEC_COUNT_FETCHES 5  // 1: hit image w = texture fetches the ray made (benchmarks)
 #define CVC_SPEC_GRADIENT 6    // CVC_GRADIENT_*: how shading normals are computed
+#define CVC_SPEC_CHORD_TABLE 7 // CVC_CHORD_TABLE_*: where chord mode gets its cube-map texels
 
 #define CVC_MODE_ISO 0
 #define CVC_MODE_COMPOSITE 1
@@ -44,6 +46,13 @@ using uint = std::uint32_t;
 #define CVC_WARP_EXACT 2   // map every sample (the reference for stereo eyes)
 #define CVC_GRADIENT_CENTRAL 0  // central differences of the filtered volume (6 trilinear fetches)
 #define CVC_GRADIENT_BSPLINE 1  // central differences of the cubic B-spline interpolant (48 fetches, smooth)
+// A chord's ends are looked up along directions that depend only on the display, the eye and
+// the scale, not on the pose: the texels can be fetched once and read on every later frame.
+#define CVC_CHORD_TABLE_NONE 0  // fetch them from the cube map, per ray
+#define CVC_CHORD_TABLE_READ 1  // read them from the chord table
+#define CVC_CHORD_TABLE_FILL 2  // fetch them and write the chord table; no ray is marched
+#define CVC_CHORD_TEXELS_PER_PIXEL 2  // vec4s: the near end's texel (w: the adaptive step's
+                                      // local scale), then the far end's
 
 // Bits of RaycastUniforms::flags
 #define CVC_FLAG_WRITE_HITS 1u
@@ -77,7 +86,7 @@ struct RaycastUniforms {
     vec3 volumeDims;       float skipCellVoxels;    // voxels per axis; voxels per empty-space cell edge
     vec3 invSpacingMm;     float lightFalloffPerMm2;  // 1 / spacing; headlight falloff 1 / half distance^2
     // Shading (Cook-Torrance) and the frame
-    float roughness;       float fresnelF0;         float ambient;           float unused;
+    float roughness;       float fresnelF0;         float ambient;           float chordReachMm;  // a bent ray's far end lies this far beyond the near plane and the eye's offset from c
     uvec2 imageSize;       uint jitterSeed;         uint flags;              // CVC_FLAG_* bits
 };
 

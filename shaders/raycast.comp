@@ -17,6 +17,7 @@ layout(constant_id = CVC_SPEC_SKIPPING) const bool kSkipping = false;
 layout(constant_id = CVC_SPEC_ADAPTIVE) const bool kAdaptive = false;
 layout(constant_id = CVC_SPEC_COUNT_FETCHES) const bool kCountFetches = false;
 layout(constant_id = CVC_SPEC_GRADIENT) const int kGradient = CVC_GRADIENT_BSPLINE;
+layout(constant_id = CVC_SPEC_CHORD_TABLE) const int kChordTable = CVC_CHORD_TABLE_NONE;
 
 // Volume fetches this invocation made (only kept when kCountFetches: a benchmark's counter).
 uint gFetchCount = 0u;
@@ -28,6 +29,7 @@ layout(binding = CVC_BINDING_HIT_IMAGE, rgba32f) uniform writeonly image2D hitIm
 layout(binding = CVC_BINDING_SKIP_DISTANCE) uniform usampler3D skipDistance;
 layout(binding = CVC_BINDING_TRANSFER_FUNCTION) uniform sampler2D transferFunction;
 layout(binding = CVC_BINDING_CUBE_MAP) uniform samplerCube cubeMap;
+layout(std430, binding = CVC_BINDING_CHORD_TABLE) buffer ChordTable { vec4 chordTexels[]; };
 
 #include "ray_box.glsl"
 #include "ray_generation.glsl"
@@ -77,13 +79,31 @@ Segment segmentForPixel(uvec2 pixel) {
         s.tEnd = span.y;
         return withTextureRay(s);
     }
-    // The far point lies beyond the farthest box corner as seen from the map centre, so the
-    // bent ray reaches the far side of the box whichever way the map turns it.
+    // The far point lies beyond every point of the box seen from the map centre (the reach is
+    // the box's diagonal plus the centre's distance from the box), so the bent ray reaches the
+    // far side of the box whichever way the map turns it. The reach depends on the volume, not
+    // on the pose (while the centre is inside the box), so the chord table stays valid.
     vec3 c = u.mapCentreMm;
-    vec3 farCorner = max(abs(u.boxMinMm - c), abs(u.boxMaxMm - c));
-    float tFar = length(farCorner) + length(eye - c) + tNear;
+    float tFar = u.chordReachMm + length(eye - c) + tNear;
+    vec3 nearPoint = eye + tNear * dir;
+    vec3 farPoint = eye + tFar * dir;
+    if (kChordTable == CVC_CHORD_TABLE_FILL) {
+        // The texels the per-ray path below fetches, looked up for the display's own geometry:
+        // the host passes it in CAVE axes about a centre at the origin, so the table does not
+        // depend on the pose of the frame that fills it.
+        uint entry = CVC_CHORD_TEXELS_PER_PIXEL * (pixel.y * u.imageSize.x + pixel.x);
+        chordTexels[entry] = vec4(cubeTexelAt(nearPoint).xyz, sceneFromDisplay(normalize(wallPoint - c)).w);
+        chordTexels[entry + 1u] = cubeTexelAt(farPoint);
+        s.tStart = 1.0;
+        s.tEnd = 0.0;
+        return s;
+    }
     // Only the adaptive step reads the map's local scale: other variants save the fetch.
-    if (kAdaptive) s.localScale = sceneFromDisplay(normalize(wallPoint - c)).w;
+    if (kAdaptive) {
+        s.localScale = kChordTable == CVC_CHORD_TABLE_READ
+                           ? chordTexels[CVC_CHORD_TEXELS_PER_PIXEL * (pixel.y * u.imageSize.x + pixel.x)].w
+                           : sceneFromDisplay(normalize(wallPoint - c)).w;
+    }
     if (kWarp == CVC_WARP_EXACT) {
         s.origin = eye;
         s.dir = dir;
@@ -92,8 +112,16 @@ Segment segmentForPixel(uvec2 pixel) {
         return s;
     }
     // Chord mode (paper Eq. 7): map the near and far points, march the chord between them.
-    vec3 a = warpPoint(eye + tNear * dir);
-    vec3 b = warpPoint(eye + tFar * dir);
+    vec3 a;
+    vec3 b;
+    if (kChordTable == CVC_CHORD_TABLE_READ) {
+        uint entry = CVC_CHORD_TEXELS_PER_PIXEL * (pixel.y * u.imageSize.x + pixel.x);
+        a = warpPointWith(nearPoint, chordTexels[entry]);
+        b = warpPointWith(farPoint, chordTexels[entry + 1u]);
+    } else {
+        a = warpPoint(nearPoint);
+        b = warpPoint(farPoint);
+    }
     float chordLength = length(b - a);
     s.origin = a;
     s.dir = chordLength > 1e-6 ? (b - a) / chordLength : dir;
@@ -166,6 +194,7 @@ void main() {
     if (pixel.x >= u.imageSize.x || pixel.y >= u.imageSize.y) return;
 
     Segment s = segmentForPixel(pixel);
+    if (kChordTable == CVC_CHORD_TABLE_FILL) return;  // the table is written; no image is
     // Fraction of a step by which the first sample is offset; 0 without jitter.
     float jitter = (u.flags & CVC_FLAG_JITTER) != 0u ? jitterFraction(pixel, u.jitterSeed) : 0.0;
     vec3 invDir = safeInverse(s.dir);

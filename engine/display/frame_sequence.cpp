@@ -449,12 +449,12 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
     summary.framesKept = total - static_cast<int>(pending.size());
     const std::vector<int> mine = framesOfRank(pending, share, share.rank);
     if (hooks.onPendingFrames) hooks.onPendingFrames(pending);
-    // Rank 0 reports the whole job: the frames finished in the folder, whoever wrote them.
+    // Rank 0 reports the whole job: the frames in place in the folder, whoever rendered them.
+    // It moves every finished frame into place itself, so it counts them as it does.
+    int framesInPlace = summary.framesKept;
     const auto reportProgress = [&] {
         if (share.rank != 0 || !hooks.onProgress) return;
-        int finished = 0;
-        for (int i = 0; i < total; ++i) finished += fs::is_directory(folder / frameFolderName(i)) ? 1 : 0;
-        hooks.onProgress(finished, total);
+        hooks.onProgress(framesInPlace, total);
     };
     reportProgress();
 
@@ -533,6 +533,7 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
                               std::move(written.walls));
             });
             ++othersFinished;
+            ++framesInPlace;
             reportProgress();
         }
     };
@@ -550,6 +551,7 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
             fs::rename(folder / partialFrameFolderName(frame.index), folder / writtenFrameFolderName(frame.index));
             share.reportFrameWritten(packSheetWalls({frame.index, std::move(reduced)}));
         }
+        if (share.rank == 0) ++framesInPlace;  // under either distribution rank 0 moved it
         reportProgress();
         finishOthersFrames();
     };

@@ -28,6 +28,7 @@ constexpr std::pair<uint32_t, vk::DescriptorType> kRaycastBindings[] = {
     {CVC_BINDING_SKIP_DISTANCE, vk::DescriptorType::eCombinedImageSampler},
     {CVC_BINDING_TRANSFER_FUNCTION, vk::DescriptorType::eCombinedImageSampler},
     {CVC_BINDING_CUBE_MAP, vk::DescriptorType::eCombinedImageSampler},
+    {CVC_BINDING_CHORD_TABLE, vk::DescriptorType::eStorageBuffer},
 };
 
 /// The descriptor types by binding number, as ComputePipeline takes them.
@@ -97,6 +98,8 @@ struct Raycaster::Slot {
     explicit Slot(const GpuContext& context)
         : uniforms(context, sizeof(shaders::RaycastUniforms), vk::BufferUsageFlagBits::eUniformBuffer,
                    GpuBuffer::Memory::HostVisible, "ray-casting uniforms"),
+          fillUniforms(context, sizeof(shaders::RaycastUniforms), vk::BufferUsageFlagBits::eUniformBuffer,
+                       GpuBuffer::Memory::HostVisible, "chord-table fill uniforms"),
           timer(context) {}
 
     Targets& targetsFor(const GpuContext& context, int width, int height) {
@@ -106,6 +109,8 @@ struct Raycaster::Slot {
     }
 
     GpuBuffer uniforms;
+    GpuBuffer fillUniforms;  // the chord table's geometry, for a request that fills one
+    std::unique_ptr<GpuBuffer> scratchChordTable;  // filled per frame once the tables' budget is spent
     GpuTimer timer;
     std::map<std::pair<int, int>, std::unique_ptr<Targets>> targets;
     Targets* current = nullptr;  // the targets of the image this slot holds now
@@ -132,7 +137,9 @@ Raycaster::Raycaster(const GpuContext& context, const volumes::Volume& volume, c
       mBricks(&bricks),
       mCubeMap(makeIdentityCubeMapTexture(context)),
       mNoHitImage(context, vk::Extent3D(1, 1, 1), vk::Format::eR32G32B32A32Sfloat, vk::ImageUsageFlagBits::eStorage,
-                  "unused hit position image") {
+                  "unused hit position image"),
+      mNoChordTable(context, 16 * CVC_CHORD_TEXELS_PER_PIXEL, vk::BufferUsageFlagBits::eStorageBuffer,
+                    GpuBuffer::Memory::DeviceLocal, "unused chord table") {
     if (volume.dims != texture.dims() || bricks.brickSize != volumes::kBrickSize ||
         bricks.brickDims != volumes::brickDimsFor(volume.dims)) {
         throw std::invalid_argument("volume, texture and brick min/max do not belong together");
@@ -144,22 +151,27 @@ Raycaster::Raycaster(const GpuContext& context, const volumes::Volume& volume, c
 
 Raycaster::~Raycaster() = default;
 
+void Raycaster::setChordTableBudget(std::uint64_t bytes) { mChordTableBudgetBytes = bytes; }
+
 void Raycaster::setCubeMap(int size, std::span<const float> rgba) {
     mCubeMap = makeCubeMapTexture(*mContext, size, rgba);
     mHasCubeMap = true;
+    mChordTables.clear();  // their texels came from the old map
+    mChordTableBytes = 0;
 }
 
-ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode warp) {
+ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode warp, int chordTable) {
     const int32_t mode = settings.mode == RenderMode::Composite ? CVC_MODE_COMPOSITE : CVC_MODE_ISO;
     const int32_t filter = settings.filter == VolumeFilter::Tricubic ? CVC_FILTER_TRICUBIC : CVC_FILTER_TRILINEAR;
     const int32_t warpId = warp == WarpMode::Exact ? CVC_WARP_EXACT : warp == WarpMode::Chord ? CVC_WARP_CHORD : CVC_WARP_NONE;
     const int32_t gradient = settings.gradient == GradientFilter::BSpline ? CVC_GRADIENT_BSPLINE : CVC_GRADIENT_CENTRAL;
     const PipelineKey key{mode, filter, warpId, settings.isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0,
-                          settings.isCountingFetches ? 1 : 0, gradient};
+                          settings.isCountingFetches ? 1 : 0, gradient, chordTable};
     auto& slot = mPipelines[key];
     if (!slot) {
-        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_GRADIENT.
-        const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key), gradient};
+        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_CHORD_TABLE.
+        const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key), gradient,
+                                     chordTable};
         slot = std::make_unique<ComputePipeline>(
             *mContext, raycast_spv, raycastDescriptorTypes(),
             0, "ray caster", constants, static_cast<uint32_t>(kMaxImagesInFlight));
@@ -249,15 +261,21 @@ RenderBatch Raycaster::submit(std::span<const RenderRequest> requests) {
         batch.mSlots.push_back(static_cast<int>(index));
         batch.mIsWritingHits.push_back(request.settings.isWritingHits);
     }
-    // Textures, maps and pipelines are made before recording (each may submit uploads itself).
+    // Textures, maps, pipelines and chord tables are made before recording (each may submit
+    // uploads itself).
+    std::vector<ChordTableUse> chordTables;
     for (std::size_t i = 0; i < requests.size(); ++i) {
         const RenderSettings& settings = requests[i].settings;
         transferTextureFor(settings.mode == RenderMode::Composite ? settings.transferFunction : "colon-wall");
         skipDistanceFor(settings);
-        pipelineFor(settings, requests[i].warp.mode);
+        chordTables.push_back(chordTableFor(requests[i], batch.mSlots[i]));
+        pipelineFor(settings, requests[i].warp.mode, chordTables.back().table ? CVC_CHORD_TABLE_READ : CVC_CHORD_TABLE_NONE);
+        if (chordTables.back().isFilling) pipelineFor(RenderSettings{}, WarpMode::Chord, CVC_CHORD_TABLE_FILL);
     }
     batch.mWork.emplace(*mContext, [&](const vk::raii::CommandBuffer& commands) {
-        for (std::size_t i = 0; i < requests.size(); ++i) recordRequest(commands, requests[i], batch.mSlots[i]);
+        for (std::size_t i = 0; i < requests.size(); ++i) {
+            recordRequest(commands, requests[i], batch.mSlots[i], chordTables[i]);
+        }
     });
     return batch;
 }
@@ -289,34 +307,89 @@ std::vector<RenderedImage> Raycaster::collect(RenderBatch& batch) {
     return images;
 }
 
+Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, int slotIndex) {
+    const Warp& warp = request.warp;
+    if (warp.mode != WarpMode::Chord || !request.settings.isUsingChordTable) return {};
+    // The key: everything the texels depend on, in CAVE axes about the map centre, where a
+    // display's walls and eyes stay put while the pose moves them through the volume.
+    // Quantised to a nanometre, far below what moves a texel, far above double's rounding.
+    const ViewRays& rays = request.rays;
+    const glm::dmat3 toCave = glm::transpose(warp.caveToVolume);
+    std::vector<long long> key;
+    auto add = [&key](double value) { key.push_back(std::llround(value * 1e6)); };
+    auto addVector = [&add](const glm::dvec3& v) {
+        for (int axis = 0; axis < 3; ++axis) add(v[axis]);
+    };
+    addVector(toCave * (rays.eyeMm - warp.mapCentreMm));
+    addVector(toCave * (rays.wallOriginMm - warp.mapCentreMm));
+    addVector(toCave * rays.wallUMm);
+    addVector(toCave * rays.wallVMm);
+    add(rays.nearMm);
+    add(chordReachMm(warp.mapCentreMm));
+    key.push_back(rays.width);
+    key.push_back(rays.height);
+    // The table is filled from the key's own values, the display's geometry in CAVE axes about
+    // a centre at the origin, not from this request's pose: then its texels do not depend on
+    // which frame came first, and a resumed run or another rank writes the same images.
+    ChordTableUse use;
+    use.canonical.settings = request.settings;
+    use.canonical.warp.mode = WarpMode::Chord;
+    auto value = [&key](std::size_t index) { return static_cast<double>(key[index]) * 1e-6; };
+    auto vectorAt = [&value](std::size_t index) { return glm::dvec3(value(index), value(index + 1), value(index + 2)); };
+    use.canonical.rays.eyeMm = vectorAt(0);
+    use.canonical.rays.wallOriginMm = vectorAt(3);
+    use.canonical.rays.wallUMm = vectorAt(6);
+    use.canonical.rays.wallVMm = vectorAt(9);
+    use.canonical.rays.nearMm = value(12);
+    use.canonicalReachMm = value(13);
+    use.canonical.rays.width = rays.width;
+    use.canonical.rays.height = rays.height;
+    auto found = mChordTables.find(key);
+    if (found != mChordTables.end()) {
+        use.table = found->second.get();
+        return use;
+    }
+    const vk::DeviceSize bytes = static_cast<vk::DeviceSize>(rays.width) * static_cast<vk::DeviceSize>(rays.height) *
+                                 16 * CVC_CHORD_TEXELS_PER_PIXEL;
+    use.isFilling = true;
+    if (mChordTableBytes + bytes > mChordTableBudgetBytes) {
+        // Past the budget the table is filled for this frame alone, in the image's slot, so the
+        // image is the same as a kept table's would be.
+        auto& scratch = mSlots[static_cast<std::size_t>(slotIndex)]->scratchChordTable;
+        if (!scratch || scratch->sizeBytes() < bytes) {
+            scratch = std::make_unique<GpuBuffer>(*mContext, bytes, vk::BufferUsageFlagBits::eStorageBuffer,
+                                                  GpuBuffer::Memory::DeviceLocal, "chord table of one frame");
+        }
+        use.table = scratch.get();
+        return use;
+    }
+    auto table = std::make_unique<GpuBuffer>(*mContext, bytes, vk::BufferUsageFlagBits::eStorageBuffer,
+                                             GpuBuffer::Memory::DeviceLocal, "chord table");
+    mChordTableBytes += bytes;
+    use.table = mChordTables.emplace(std::move(key), std::move(table)).first->second.get();
+    return use;
+}
+
+double Raycaster::chordReachMm(const glm::dvec3& mapCentreMm) const {
+    // The box's diagonal plus the centre's distance from it bounds the distance from the centre
+    // to any point of the box, and it does not change as the pose moves a centre inside the box.
+    const auto dims = glm::dvec3(mVolume->dims()[0], mVolume->dims()[1], mVolume->dims()[2]);
+    const glm::dvec3 spacing = mVolume->spacingMm();
+    const glm::dvec3 boxMin = -0.5 * spacing;
+    const glm::dvec3 boxMax = (dims - 0.5) * spacing;
+    const glm::dvec3 outside = glm::max(glm::max(boxMin - mapCentreMm, mapCentreMm - boxMax), glm::dvec3(0.0));
+    return glm::length(boxMax - boxMin) + glm::length(outside);
+}
+
 void Raycaster::releaseSlots(const std::vector<int>& slots) {
     for (int index : slots) mIsSlotBusy[static_cast<std::size_t>(index)] = false;
 }
 
-void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex) {
+shaders::RaycastUniforms Raycaster::uniformsFor(const RenderRequest& request, const TransferTable& table,
+                                               double farReachMm) const {
     const ViewRays& rays = request.rays;
     const RenderSettings& settings = request.settings;
     const Warp& warp = request.warp;
-    const auto set = static_cast<uint32_t>(slotIndex);
-    Slot& slot = *mSlots[static_cast<std::size_t>(slotIndex)];
-    Targets& targets = slot.targetsFor(*mContext, rays.width, rays.height);
-    slot.current = &targets;
-    if (settings.isWritingHits) targets.makeHitTargets(*mContext);
-    const GpuImage& hitImage = settings.isWritingHits ? *targets.hit : mNoHitImage;
-
-    const std::string& transferName = settings.mode == RenderMode::Composite ? settings.transferFunction : "colon-wall";
-    const SampledTexture& transfer = transferTextureFor(transferName);
-    const TransferTable& table = mTransferTables.at(transferName);
-    const SampledTexture& skipDistance = skipDistanceFor(settings);
-    ComputePipeline& pipeline = pipelineFor(settings, warp.mode);
-    pipeline.bindBuffer(CVC_BINDING_UNIFORMS, slot.uniforms, set);
-    pipeline.bindSampledImage(CVC_BINDING_VOLUME, mVolume->image(), mVolume->sampler(), set);
-    pipeline.bindStorageImage(CVC_BINDING_COLOR_IMAGE, targets.color, set);
-    pipeline.bindStorageImage(CVC_BINDING_HIT_IMAGE, hitImage, set);
-    pipeline.bindSampledImage(CVC_BINDING_SKIP_DISTANCE, skipDistance.image, skipDistance.sampler, set);
-    pipeline.bindSampledImage(CVC_BINDING_TRANSFER_FUNCTION, transfer.image, transfer.sampler, set);
-    pipeline.bindSampledImage(CVC_BINDING_CUBE_MAP, mCubeMap.image, mCubeMap.sampler, set);
-
     const glm::dvec3 wallNormal = wallNormalOf(rays);
     // Geometry of the volume: the box spans the voxels' outer faces, half a voxel beyond the centres.
     const auto dims = glm::dvec3(mVolume->dims()[0], mVolume->dims()[1], mVolume->dims()[2]);
@@ -368,19 +441,84 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     u.roughness = f(settings.roughness);
     u.fresnelF0 = f(settings.fresnel);
     u.ambient = f(settings.ambient);
+    u.chordReachMm = f(farReachMm);
     u.imageSize = glm::uvec2(static_cast<uint32_t>(rays.width), static_cast<uint32_t>(rays.height));
     u.jitterSeed = settings.jitterSeed;
     u.flags = (settings.isWritingHits ? CVC_FLAG_WRITE_HITS : 0u) | (settings.isJittered ? CVC_FLAG_JITTER : 0u) |
               (settings.isWritingNormals ? CVC_FLAG_WRITE_NORMALS : 0u);
+    return u;
+}
+
+double Raycaster::chordReachFor(const Warp& warp) const {
+    if (warp.mode != WarpMode::Exact) return chordReachMm(warp.mapCentreMm);
+    // Exact mode marches all the way to the far end, so it stops at the farthest corner.
+    const auto dims = glm::dvec3(mVolume->dims()[0], mVolume->dims()[1], mVolume->dims()[2]);
+    const glm::dvec3 spacing = mVolume->spacingMm();
+    const glm::dvec3 farCorner =
+        glm::max(glm::abs(-0.5 * spacing - warp.mapCentreMm), glm::abs((dims - 0.5) * spacing - warp.mapCentreMm));
+    return glm::length(farCorner);
+}
+
+void Raycaster::bindResources(ComputePipeline& pipeline, uint32_t set, const GpuBuffer& uniforms, const GpuImage& color,
+                              const GpuImage& hit, const SampledTexture& skipDistance, const SampledTexture& transfer,
+                              const GpuBuffer& chordTable) const {
+    pipeline.bindBuffer(CVC_BINDING_UNIFORMS, uniforms, set);
+    pipeline.bindSampledImage(CVC_BINDING_VOLUME, mVolume->image(), mVolume->sampler(), set);
+    pipeline.bindStorageImage(CVC_BINDING_COLOR_IMAGE, color, set);
+    pipeline.bindStorageImage(CVC_BINDING_HIT_IMAGE, hit, set);
+    pipeline.bindSampledImage(CVC_BINDING_SKIP_DISTANCE, skipDistance.image, skipDistance.sampler, set);
+    pipeline.bindSampledImage(CVC_BINDING_TRANSFER_FUNCTION, transfer.image, transfer.sampler, set);
+    pipeline.bindSampledImage(CVC_BINDING_CUBE_MAP, mCubeMap.image, mCubeMap.sampler, set);
+    pipeline.bindBuffer(CVC_BINDING_CHORD_TABLE, chordTable, set);
+}
+
+void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex,
+                              ChordTableUse chordTable) {
+    const ViewRays& rays = request.rays;
+    const RenderSettings& settings = request.settings;
+    const Warp& warp = request.warp;
+    const auto set = static_cast<uint32_t>(slotIndex);
+    Slot& slot = *mSlots[static_cast<std::size_t>(slotIndex)];
+    Targets& targets = slot.targetsFor(*mContext, rays.width, rays.height);
+    slot.current = &targets;
+    if (settings.isWritingHits) targets.makeHitTargets(*mContext);
+    const GpuImage& hitImage = settings.isWritingHits ? *targets.hit : mNoHitImage;
+
+    const std::string& transferName = settings.mode == RenderMode::Composite ? settings.transferFunction : "colon-wall";
+    const SampledTexture& transfer = transferTextureFor(transferName);
+    const TransferTable& table = mTransferTables.at(transferName);
+    const SampledTexture& skipDistance = skipDistanceFor(settings);
+    const GpuBuffer& chordTexels = chordTable.table ? *chordTable.table : mNoChordTable;
+    ComputePipeline& pipeline =
+        pipelineFor(settings, warp.mode, chordTable.table ? CVC_CHORD_TABLE_READ : CVC_CHORD_TABLE_NONE);
+    bindResources(pipeline, set, slot.uniforms, targets.color, hitImage, skipDistance, transfer, chordTexels);
+
+    const shaders::RaycastUniforms u = uniformsFor(request, table, chordReachFor(warp));
     slot.uniforms.write(std::as_bytes(std::span(&u, 1)));
+    if (chordTable.isFilling) {
+        const shaders::RaycastUniforms canonical = uniformsFor(chordTable.canonical, table, chordTable.canonicalReachMm);
+        slot.fillUniforms.write(std::as_bytes(std::span(&canonical, 1)));
+    }
 
     recordImageBarrier(commands, targets.color, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);
     if (settings.isWritingHits) {
         recordImageBarrier(commands, *targets.hit, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);
     }
-    slot.timer.recordStart(commands);
     const auto groups = [](int n) { return static_cast<uint32_t>((n + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE); };
-    pipeline.recordDispatch(commands, vk::Extent3D(groups(rays.width), groups(rays.height), 1), {}, set);
+    const vk::Extent3D imageGroups(groups(rays.width), groups(rays.height), 1);
+    slot.timer.recordStart(commands);  // a table's fill counts in the frame that needed it
+    if (chordTable.isFilling) {
+        ComputePipeline& fill = pipelineFor(RenderSettings{}, WarpMode::Chord, CVC_CHORD_TABLE_FILL);
+        bindResources(fill, set, slot.fillUniforms, targets.color, hitImage, skipDistance, transfer, chordTexels);
+        fill.recordDispatch(commands, imageGroups, {}, set);
+    }
+    if (chordTable.table) {
+        // The table may have been filled just now or by an earlier batch still on the queue.
+        const vk::MemoryBarrier written(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eShaderRead);
+        commands.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eComputeShader,
+                                 {}, written, {}, {});
+    }
+    pipeline.recordDispatch(commands, imageGroups, {}, set);
     slot.timer.recordEnd(commands);
     recordImageBarrier(commands, targets.color, vk::ImageLayout::eGeneral, vk::ImageLayout::eTransferSrcOptimal);
     const vk::ImageSubresourceLayers layers(vk::ImageAspectFlagBits::eColor, 0, 0, 1);

@@ -2,6 +2,7 @@
 /// volume in one compute dispatch, with the features chosen per call.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -17,6 +18,10 @@
 #include "engine/render/view_rays.h"
 #include "engine/render/volume_texture.h"
 #include "volumes/brick_minmax.h"
+
+namespace shaders {
+struct RaycastUniforms;  // shaders/host_device.h
+}
 
 namespace engine {
 
@@ -55,6 +60,10 @@ struct RenderSettings {
     bool isWritingHits = true;                    // fill RenderedImage::hitMm
     bool isCountingFetches = false;               // benchmarks: hitMm's w = volume fetches per ray
     bool isWritingNormals = false;                // tests: hitMm's xyz = the shading normal, not the position
+    /// Chord warp: keep the cube-map texels of each pixel's chord ends in a table per display
+    /// geometry (wall, eye, scale), filled on first use and read on every later frame; false
+    /// fetches them per ray (the same images; tests and benchmarks compare the two).
+    bool isUsingChordTable = true;
 };
 
 /// The warp of space about the map centre (DESIGN.md "Rays"), in volume millimetres.
@@ -140,18 +149,44 @@ public:
     /// Images that may be in flight at once: two stereo frames of a six-wall display with their
     /// before/after walls.
     static constexpr int kMaxImagesInFlight = 48;
+    /// Chord tables held now (one per display geometry the chord warp has rendered).
+    [[nodiscard]] std::size_t chordTableCount() const { return mChordTables.size(); }
+    /// Memory the kept chord tables may take, by default 1 GiB (32 bytes a pixel: the 5-wall
+    /// cabin's stereo walls at full size take 447 MB). A geometry past it gets its table filled
+    /// anew for each frame: the same images, at the per-ray fetches' cost.
+    void setChordTableBudget(std::uint64_t bytes);
 
 private:
     friend class RenderBatch;
     struct Targets;
     struct Slot;
-    using PipelineKey = std::tuple<int, int, int, int, int, int, int>;
+    /// What one request records besides its own dispatch: the chord table it reads, if any,
+    /// and whether it fills it first, from `canonical`: the request's rays in CAVE axes about a
+    /// map centre at the origin, as the table's key holds them.
+    struct ChordTableUse {
+        const GpuBuffer* table = nullptr;
+        bool isFilling = false;
+        RenderRequest canonical;
+        double canonicalReachMm = 0.0;
+    };
+    using PipelineKey = std::tuple<int, int, int, int, int, int, int, int>;
 
     void validateRequest(const RenderRequest& request) const;
-    void recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex);
+    void recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex,
+                       ChordTableUse chordTable);
+    ChordTableUse chordTableFor(const RenderRequest& request, int slotIndex);
+    /// How far beyond the near plane a chord's far end lies (see raycast.comp).
+    double chordReachMm(const glm::dvec3& mapCentreMm) const;
+    /// The uniforms' far reach for `warp`: the chord's, or for exact mode the farthest corner.
+    double chordReachFor(const Warp& warp) const;
+    shaders::RaycastUniforms uniformsFor(const RenderRequest& request, const TransferTable& table,
+                                         double farReachMm) const;
+    void bindResources(ComputePipeline& pipeline, uint32_t set, const GpuBuffer& uniforms, const GpuImage& color,
+                       const GpuImage& hit, const SampledTexture& skipDistance, const SampledTexture& transfer,
+                       const GpuBuffer& chordTable) const;
     void releaseSlots(const std::vector<int>& slots);
 
-    ComputePipeline& pipelineFor(const RenderSettings& settings, WarpMode warp);
+    ComputePipeline& pipelineFor(const RenderSettings& settings, WarpMode warp, int chordTable);
     const SampledTexture& skipDistanceFor(const RenderSettings& settings);
     const SampledTexture& transferTextureFor(const std::string& name);
 
@@ -169,6 +204,12 @@ private:
     std::vector<std::unique_ptr<Slot>> mSlots;  // per-image uniforms, timers and targets
     std::vector<bool> mIsSlotBusy;
     GpuImage mNoHitImage;  // bound where hits are not asked for (the shader then never writes it)
+    // Chord tables by display geometry (quantised, in CAVE axes about the map centre), dropped
+    // when the cube map changes; past the byte budget, rays fetch their texels themselves.
+    std::map<std::vector<long long>, std::unique_ptr<GpuBuffer>> mChordTables;
+    vk::DeviceSize mChordTableBytes = 0;
+    std::uint64_t mChordTableBudgetBytes = std::uint64_t{1} << 30;
+    GpuBuffer mNoChordTable;  // bound where no table is read or written
 };
 
 }  // namespace engine

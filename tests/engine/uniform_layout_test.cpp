@@ -17,7 +17,7 @@ namespace {
 
 #define CVC_MEMBER(name) {"u." #name, offsetof(shaders::RaycastUniforms, name)}
 
-// Every member the shader reads; `unused` pads the shading slot and is absent from the shader.
+// Every member of the uniform block; the shader reads each one.
 const std::map<std::string, std::size_t> kCppOffsets = {
     CVC_MEMBER(eyeMm),           CVC_MEMBER(nearMm),         CVC_MEMBER(wallOriginMm),
     CVC_MEMBER(stepMm),          CVC_MEMBER(wallUMm),        CVC_MEMBER(isoHu),
@@ -29,7 +29,7 @@ const std::map<std::string, std::size_t> kCppOffsets = {
     CVC_MEMBER(transferIndexPerHu), CVC_MEMBER(texFromMmScale), CVC_MEMBER(transferReferenceStepMm),
     CVC_MEMBER(texFromMmOffset), CVC_MEMBER(transferHalfEntry), CVC_MEMBER(volumeDims),
     CVC_MEMBER(skipCellVoxels),  CVC_MEMBER(invSpacingMm),   CVC_MEMBER(lightFalloffPerMm2),
-    CVC_MEMBER(roughness),       CVC_MEMBER(fresnelF0),      CVC_MEMBER(ambient),
+    CVC_MEMBER(roughness),       CVC_MEMBER(fresnelF0),      CVC_MEMBER(ambient),         CVC_MEMBER(chordReachMm),
     CVC_MEMBER(imageSize),       CVC_MEMBER(jitterSeed),     CVC_MEMBER(flags),
 };
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -135,6 +136,79 @@ TEST_F(WarpedWalls, ChordEqualsExactForTheCentreEye) {
         }
         EXPECT_LT(worstMm, 0.05) << engine::wallNameText(wall.name);
     }
+}
+
+/// Largest difference of two hit-position images, millimetres.
+double worstHitDifferenceMm(const engine::RenderedImage& a, const engine::RenderedImage& b) {
+    double worstMm = 0.0;
+    for (std::size_t i = 0; i < a.hitMm.size(); ++i) {
+        worstMm = std::max(worstMm, static_cast<double>(std::abs(a.hitMm[i] - b.hitMm[i])));
+    }
+    return worstMm;
+}
+
+/// Whether `read` (through a chord table) is the per-ray fetches' image `fetched` but for float
+/// rounding: the table's texels were looked up along the display's own directions, the per-ray
+/// ones along the same directions turned into the volume and back.
+void expectSameButRounding(const engine::RenderedImage& read, const engine::RenderedImage& fetched, const std::string& what) {
+    const auto [worst, mean] = colorDifference(read, fetched);
+    EXPECT_LE(worst, 1) << what;
+    EXPECT_LT(mean, 0.01) << what;
+    EXPECT_LT(worstHitDifferenceMm(read, fetched), 1e-3) << what;
+}
+
+// The chord table holds each pixel's cube-map texels for one display geometry (wall, eye,
+// scale). It must give the per-ray fetches' image on the frame that fills it and on later
+// poses, which read it; the images must not depend on which pose filled it (a resumed run or
+// another rank starts elsewhere); another eye or wall is another table, and a new cube map
+// drops them all.
+TEST_F(WarpedWalls, ChordTableGivesThePerRayImageOnEveryPose) {
+    SphericalRoom room(context());
+    room.raycaster.setCubeMap(sConformal->size, sConformal->rgba);
+    const engine::Display display = fiveWallCube(72);
+    engine::RenderSettings perRay = roomSettings();
+    perRay.isUsingChordTable = false;
+    const engine::RenderSettings withTable = roomSettings();
+    auto pose = poseAt(SphericalRoom::spec().centreMm + glm::dvec3(3.0, -2.0, 1.0));
+    const auto left = engine::wallView(display, WallName::Front, engine::Eye::Left, pose, engine::WarpMode::Chord);
+    const auto fetched = room.raycaster.render(left.rays, perRay, left.warp);
+    EXPECT_EQ(room.raycaster.chordTableCount(), 0u);
+    const auto filled = room.raycaster.render(left.rays, withTable, left.warp);
+    EXPECT_EQ(room.raycaster.chordTableCount(), 1u);
+    expectSameButRounding(filled, fetched, "the frame that fills the table");
+
+    // Moved and turned: the same wall and eye in CAVE space, so the table is read.
+    pose.positionMm += glm::dvec3(-6.0, 4.0, 5.0);
+    pose.forward = glm::normalize(glm::dvec3(-0.5, 0.2, 1.0));
+    const auto moved = engine::wallView(display, WallName::Front, engine::Eye::Left, pose, engine::WarpMode::Chord);
+    const auto movedRead = room.raycaster.render(moved.rays, withTable, moved.warp);
+    EXPECT_EQ(room.raycaster.chordTableCount(), 1u);
+    expectSameButRounding(movedRead, room.raycaster.render(moved.rays, perRay, moved.warp), "a later pose");
+    // The pose did move the image: a table read for the first pose's rays would show it.
+    EXPECT_GT(worstHitDifferenceMm(movedRead, filled), 1.0);
+    // A ray caster that starts at the later pose fills the table there: the same bytes.
+    SphericalRoom fresh(context());
+    fresh.raycaster.setCubeMap(sConformal->size, sConformal->rgba);
+    const auto movedFilled = fresh.raycaster.render(moved.rays, withTable, moved.warp);
+    EXPECT_EQ(movedFilled.rgba, movedRead.rgba);
+    EXPECT_EQ(movedFilled.hitMm, movedRead.hitMm);
+    // With no memory for tables, each frame fills one of its own: the same bytes again.
+    fresh.raycaster.setCubeMap(sConformal->size, sConformal->rgba);
+    fresh.raycaster.setChordTableBudget(0);
+    const auto unkept = fresh.raycaster.render(moved.rays, withTable, moved.warp);
+    EXPECT_EQ(fresh.raycaster.chordTableCount(), 0u);
+    EXPECT_EQ(unkept.rgba, movedRead.rgba);
+    EXPECT_EQ(unkept.hitMm, movedRead.hitMm);
+
+    // The other eye and another wall have their own chord ends.
+    for (const auto& [wall, eye] : {std::pair{WallName::Front, engine::Eye::Right}, std::pair{WallName::Left, engine::Eye::Left}}) {
+        const auto view = engine::wallView(display, wall, eye, pose, engine::WarpMode::Chord);
+        expectSameButRounding(room.raycaster.render(view.rays, withTable, view.warp),
+                              room.raycaster.render(view.rays, perRay, view.warp), engine::wallNameText(wall));
+    }
+    EXPECT_EQ(room.raycaster.chordTableCount(), 3u);
+    room.raycaster.setCubeMap(sLinear->size, sLinear->rgba);
+    EXPECT_EQ(room.raycaster.chordTableCount(), 0u);
 }
 
 /// Quasi-conformal distortion K = sigma_max / sigma_min of the map from display directions
