@@ -51,8 +51,9 @@ using uint = std::uint32_t;
 #define CVC_CHORD_TABLE_NONE 0  // fetch them from the cube map, per ray
 #define CVC_CHORD_TABLE_READ 1  // read them from the chord table
 #define CVC_CHORD_TABLE_FILL 2  // fetch them and write the chord table; no ray is marched
-#define CVC_CHORD_TEXELS_PER_PIXEL 2  // vec4s: the near end's texel (w: the adaptive step's
-                                      // local scale), then the far end's
+// The table: per pixel one vec4, the near and far ends' scene directions as octahedral
+// coordinates; after all pixels' vec4s, one float per pixel, the adaptive step's local scale.
+#define CVC_CHORD_TABLE_BYTES_PER_PIXEL 20
 
 // Bits of RaycastUniforms::flags
 #define CVC_FLAG_WRITE_HITS 1u

@@ -30,6 +30,26 @@ vec4 sceneFromDisplay(vec3 displayDirVolume) {
     return vec4(toVolume * normalize(texel.xyz), texel.w);
 }
 
+// A unit vector as octahedral coordinates in [-1, 1]^2 (the sphere folded onto the octahedron
+// |x| + |y| + |z| = 1 and unfolded onto a square), and back: two floats for a direction, exact
+// to float rounding.
+vec2 octahedralFromDirection(vec3 n) {
+    n /= abs(n.x) + abs(n.y) + abs(n.z);
+    vec2 folded = n.xy;
+    if (n.z < 0.0) {
+        folded = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    }
+    return folded;
+}
+
+vec3 directionFromOctahedral(vec2 e) {
+    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+    if (n.z < 0.0) {
+        n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    }
+    return normalize(n);
+}
+
 // W(q) = c + |q - c| * F(dir(q - c)) with F's texel for that direction already at hand.
 vec3 warpPointWith(vec3 qMm, vec4 texel) {
     vec3 c = u.mapCentreMm;

@@ -29,7 +29,7 @@ layout(binding = CVC_BINDING_HIT_IMAGE, rgba32f) uniform writeonly image2D hitIm
 layout(binding = CVC_BINDING_SKIP_DISTANCE) uniform usampler3D skipDistance;
 layout(binding = CVC_BINDING_TRANSFER_FUNCTION) uniform sampler2D transferFunction;
 layout(binding = CVC_BINDING_CUBE_MAP) uniform samplerCube cubeMap;
-layout(std430, binding = CVC_BINDING_CHORD_TABLE) buffer ChordTable { vec4 chordTexels[]; };
+layout(std430, binding = CVC_BINDING_CHORD_TABLE) buffer ChordTable { vec4 chordTable[]; };
 
 #include "ray_box.glsl"
 #include "ray_generation.glsl"
@@ -87,22 +87,25 @@ Segment segmentForPixel(uvec2 pixel) {
     float tFar = u.chordReachMm + length(eye - c) + tNear;
     vec3 nearPoint = eye + tNear * dir;
     vec3 farPoint = eye + tFar * dir;
+    uint pixelIndex = pixel.y * u.imageSize.x + pixel.x;
+    // The local scales are packed four to a vec4 after every pixel's vec4 of directions.
+    uint scaleEntry = u.imageSize.x * u.imageSize.y + pixelIndex / 4u;
+    uint scaleLane = pixelIndex % 4u;
     if (kChordTable == CVC_CHORD_TABLE_FILL) {
         // The texels the per-ray path below fetches, looked up for the display's own geometry:
         // the host passes it in CAVE axes about a centre at the origin, so the table does not
         // depend on the pose of the frame that fills it.
-        uint entry = CVC_CHORD_TEXELS_PER_PIXEL * (pixel.y * u.imageSize.x + pixel.x);
-        chordTexels[entry] = vec4(cubeTexelAt(nearPoint).xyz, sceneFromDisplay(normalize(wallPoint - c)).w);
-        chordTexels[entry + 1u] = cubeTexelAt(farPoint);
+        chordTable[pixelIndex] = vec4(octahedralFromDirection(normalize(cubeTexelAt(nearPoint).xyz)),
+                                      octahedralFromDirection(normalize(cubeTexelAt(farPoint).xyz)));
+        chordTable[scaleEntry][scaleLane] = sceneFromDisplay(normalize(wallPoint - c)).w;
         s.tStart = 1.0;
         s.tEnd = 0.0;
         return s;
     }
     // Only the adaptive step reads the map's local scale: other variants save the fetch.
     if (kAdaptive) {
-        s.localScale = kChordTable == CVC_CHORD_TABLE_READ
-                           ? chordTexels[CVC_CHORD_TEXELS_PER_PIXEL * (pixel.y * u.imageSize.x + pixel.x)].w
-                           : sceneFromDisplay(normalize(wallPoint - c)).w;
+        s.localScale = kChordTable == CVC_CHORD_TABLE_READ ? chordTable[scaleEntry][scaleLane]
+                                                           : sceneFromDisplay(normalize(wallPoint - c)).w;
     }
     if (kWarp == CVC_WARP_EXACT) {
         s.origin = eye;
@@ -115,9 +118,9 @@ Segment segmentForPixel(uvec2 pixel) {
     vec3 a;
     vec3 b;
     if (kChordTable == CVC_CHORD_TABLE_READ) {
-        uint entry = CVC_CHORD_TEXELS_PER_PIXEL * (pixel.y * u.imageSize.x + pixel.x);
-        a = warpPointWith(nearPoint, chordTexels[entry]);
-        b = warpPointWith(farPoint, chordTexels[entry + 1u]);
+        vec4 ends = chordTable[pixelIndex];  // one 16-byte read for both ends
+        a = warpPointWith(nearPoint, vec4(directionFromOctahedral(ends.xy), 1.0));
+        b = warpPointWith(farPoint, vec4(directionFromOctahedral(ends.zw), 1.0));
     } else {
         a = warpPoint(nearPoint);
         b = warpPoint(farPoint);

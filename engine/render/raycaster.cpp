@@ -138,7 +138,7 @@ Raycaster::Raycaster(const GpuContext& context, const volumes::Volume& volume, c
       mCubeMap(makeIdentityCubeMapTexture(context)),
       mNoHitImage(context, vk::Extent3D(1, 1, 1), vk::Format::eR32G32B32A32Sfloat, vk::ImageUsageFlagBits::eStorage,
                   "unused hit position image"),
-      mNoChordTable(context, 16 * CVC_CHORD_TEXELS_PER_PIXEL, vk::BufferUsageFlagBits::eStorageBuffer,
+      mNoChordTable(context, 2 * CVC_CHORD_TABLE_BYTES_PER_PIXEL, vk::BufferUsageFlagBits::eStorageBuffer,
                     GpuBuffer::Memory::DeviceLocal, "unused chord table") {
     if (volume.dims != texture.dims() || bricks.brickSize != volumes::kBrickSize ||
         bricks.brickDims != volumes::brickDimsFor(volume.dims)) {
@@ -349,8 +349,9 @@ Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, 
         use.table = found->second.get();
         return use;
     }
-    const vk::DeviceSize bytes = static_cast<vk::DeviceSize>(rays.width) * static_cast<vk::DeviceSize>(rays.height) *
-                                 16 * CVC_CHORD_TEXELS_PER_PIXEL;
+    // Rounded up to whole vec4s: the shader's array is of vec4s.
+    const vk::DeviceSize pixels = static_cast<vk::DeviceSize>(rays.width) * static_cast<vk::DeviceSize>(rays.height);
+    const vk::DeviceSize bytes = (pixels * CVC_CHORD_TABLE_BYTES_PER_PIXEL + 15) / 16 * 16;
     use.isFilling = true;
     if (mChordTableBytes + bytes > mChordTableBudgetBytes) {
         // Past the budget the table is filled for this frame alone, in the image's slot, so the

@@ -151,8 +151,8 @@ public:
     static constexpr int kMaxImagesInFlight = 48;
     /// Chord tables held now (one per display geometry the chord warp has rendered).
     [[nodiscard]] std::size_t chordTableCount() const { return mChordTables.size(); }
-    /// Memory the kept chord tables may take, by default 1 GiB (32 bytes a pixel: the 5-wall
-    /// cabin's stereo walls at full size take 447 MB). A geometry past it gets its table filled
+    /// Memory the kept chord tables may take, by default 1 GiB (20 bytes a pixel: the 5-wall
+    /// cabin's stereo walls at full size take 294 MB). A geometry past it gets its table filled
     /// anew for each frame: the same images, at the per-ray fetches' cost.
     void setChordTableBudget(std::uint64_t bytes);
 

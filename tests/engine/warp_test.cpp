@@ -207,6 +207,23 @@ TEST_F(WarpedWalls, ChordTableGivesThePerRayImageOnEveryPose) {
                               room.raycaster.render(view.rays, perRay, view.warp), engine::wallNameText(wall));
     }
     EXPECT_EQ(room.raycaster.chordTableCount(), 3u);
+    // The adaptive step reads the map's local scale from the table too. Its steps show in the
+    // volume fetches each ray makes (a wrong scale hardly moves the refined hits).
+    engine::RenderSettings adaptivePerRay = perRay;
+    adaptivePerRay.isAdaptive = true;
+    adaptivePerRay.maxStepVoxels = 8.0;
+    adaptivePerRay.isCountingFetches = true;
+    engine::RenderSettings adaptiveWithTable = adaptivePerRay;
+    adaptiveWithTable.isUsingChordTable = true;
+    const auto fetchesOf = [](const engine::RenderedImage& image) {
+        double fetches = 0.0;
+        for (std::size_t i = 3; i < image.hitMm.size(); i += 4) fetches += image.hitMm[i];
+        return fetches;
+    };
+    const double tableFetches = fetchesOf(room.raycaster.render(moved.rays, adaptiveWithTable, moved.warp));
+    const double perRayFetches = fetchesOf(room.raycaster.render(moved.rays, adaptivePerRay, moved.warp));
+    EXPECT_NEAR(tableFetches / perRayFetches, 1.0, 1e-3) << tableFetches << " fetches against " << perRayFetches;
+    EXPECT_EQ(room.raycaster.chordTableCount(), 3u);
     room.raycaster.setCubeMap(sLinear->size, sLinear->rgba);
     EXPECT_EQ(room.raycaster.chordTableCount(), 0u);
 }
