@@ -260,6 +260,11 @@ void runDisplayRender(const RenderOptions& givenOptions) {
         for (int index : summary.framesLeftHalfWritten) std::cout << ' ' << index;
         std::cout << ", rendered again";
     }
+    if (!summary.framesFinishedFromImages.empty()) {
+        std::cout << "; finished frame(s)";
+        for (int index : summary.framesFinishedFromImages) std::cout << ' ' << index;
+        std::cout << " from the images the run that stopped had written";
+    }
     std::cout << "\nwrote " << options.outPath << " (review page: "
               << (std::filesystem::path(options.outPath) / "index.html").string() << ")\n";
 }

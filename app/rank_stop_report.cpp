@@ -156,10 +156,17 @@ std::size_t composeRankStopReport(const RankStopState& state, char* buffer, std:
             describeRankAt(text, state, rank, "at");
         }
     }
+    // A frame another rank wrote whole is kept too: resuming writes its sheet from its images.
     int finished = 0;
-    for (int frame = 0; frame < state.framesTotal; ++frame) finished += isFinished(state, frame) ? 1 : 0;
+    int waitingForSheet = 0;
+    for (int frame = 0; frame < state.framesTotal; ++frame) {
+        finished += isWrittenOrFinished(state, frame) ? 1 : 0;
+        waitingForSheet += isWrittenOrFinished(state, frame) && !isFinished(state, frame) ? 1 : 0;
+    }
     text << ". " << finished << " of " << state.framesTotal << " frames are finished in " << state.folder
-         << " and kept: run the same command with --resume (any number of ranks) to render the rest.\n";
+         << " and kept";
+    if (waitingForSheet > 0) text << " (" << waitingForSheet << " with every image, waiting only for the sheet)";
+    text << ": run the same command with --resume (any number of ranks) to render the rest.\n";
     return text.length();
 }
 

@@ -209,7 +209,8 @@ public:
     }
 
     /// Rank 0 under the walls distribution, once every rank wrote its walls of frame `index` in
-    /// `partial`: the sheet from the files, and the frame into place.
+    /// `partial`, or on resuming a stopped run's ".written" frame: the sheet from the files, and
+    /// the frame into place.
     void finish(int index, const fs::path& partial) {
         const auto& walls = mJob.display.walls;
         std::vector<RgbaImage> reduced(2 * walls.size());
@@ -431,11 +432,19 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
         if (!fs::is_directory(folder / frameFolderName(i))) pending.push_back(i);
     }
     SequenceSummary summary;
+    // A ".written" frame of a stopped run has every image: only its sheet is missing, which
+    // rank 0 composes from the files (as under the walls distribution). A ".partial" one is
+    // rendered again. Every rank sees the same folders here, so all agree on what is left.
+    std::vector<int> unfinished;
     for (int index : pending) {
-        if (fs::exists(folder / partialFrameFolderName(index)) || fs::exists(folder / writtenFrameFolderName(index))) {
-            summary.framesLeftHalfWritten.push_back(index);
+        if (fs::is_directory(folder / writtenFrameFolderName(index))) {
+            summary.framesFinishedFromImages.push_back(index);
+            continue;
         }
+        if (fs::exists(folder / partialFrameFolderName(index))) summary.framesLeftHalfWritten.push_back(index);
+        unfinished.push_back(index);
     }
+    pending = std::move(unfinished);
     barrier();  // every rank looked before rank 0 clears the hidden folders
     if (share.rank == 0) {
         for (int index : pending) {  // left by a run that stopped
@@ -446,7 +455,8 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
     barrier();
     const auto start = std::chrono::steady_clock::now();
 
-    summary.framesKept = total - static_cast<int>(pending.size());
+    summary.framesKept =
+        total - static_cast<int>(pending.size()) - static_cast<int>(summary.framesFinishedFromImages.size());
     const std::vector<int> mine = framesOfRank(pending, share, share.rank);
     if (hooks.onPendingFrames) hooks.onPendingFrames(pending);
     // Rank 0 reports the whole job: the frames in place in the folder, whoever rendered them.
@@ -555,6 +565,15 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
         reportProgress();
         finishOthersFrames();
     };
+
+    if (share.rank == 0) {
+        for (int index : summary.framesFinishedFromImages) {
+            throwIfCancelled(hooks);
+            writer.finish(index, folder / writtenFrameFolderName(index));
+            ++framesInPlace;
+            reportProgress();
+        }
+    }
 
     std::unique_ptr<FrameInFlight> ready;  // collected, not yet written
     for (int index : mine) {

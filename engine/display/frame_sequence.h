@@ -116,6 +116,9 @@ struct SequenceSummary {
 
     int framesKept = 0;
     std::vector<int> framesLeftHalfWritten;  // by a run that stopped (their hidden folders): rendered again
+    // Frames whose images a stopped run had all written (another rank's ".written" folder,
+    // waiting for rank 0's sheet): this run composed their sheets and moved them into place.
+    std::vector<int> framesFinishedFromImages;
     double seconds = 0.0;
     double rayCastingMs = 0.0;  // device time of the stereo wall images' dispatches (before/after excluded)
     // Rank 0 of a shared run: the sheets it wrote of frames whose walls other ranks rendered,

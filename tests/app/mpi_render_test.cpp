@@ -188,10 +188,10 @@ TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
     const auto run = runCvc(renderArguments(out, kFrames, "--distribute frames"), kMpirun);
     watcher.join();
     EXPECT_NE(run.exitCode, 0);
-    int kept = 0;
-    for (int i = 0; i < kFrames; ++i) kept += fs::is_directory(out / frameName(i)) ? 1 : 0;
-    EXPECT_GE(kept, 1);
-    EXPECT_LT(kept, kFrames) << "the run was not stopped before its end";
+    int inPlace = 0;
+    for (int i = 0; i < kFrames; ++i) inPlace += fs::is_directory(out / frameName(i)) ? 1 : 0;
+    EXPECT_GE(inPlace, 1);
+    EXPECT_LT(inPlace, kFrames) << "the run was not stopped before its end";
     // Rank 0 names the rank that died and the frame it was at: one of rank 1's (the odd frames
     // of a fresh run of two ranks) that is not in place, and counts the frames kept.
     const int frameAt = frameNamedForRank1(run.err);
@@ -207,19 +207,27 @@ TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
     for (int frame = 1; frame < frameAt; frame += 2) {
         EXPECT_TRUE(isWritten(frame)) << "rank 1 had not written frame " << frame << ", before the one named";
     }
+    // Kept: in place, or written whole by rank 1 and waiting for rank 0's sheet.
+    int kept = 0;
+    for (int i = 0; i < kFrames; ++i) kept += isWritten(i) ? 1 : 0;
     EXPECT_NE(run.err.find(std::to_string(kept) + " of " + std::to_string(kFrames) + " frames are finished"),
               std::string::npos)
         << run.err;
-    // " 3 5": the hidden folders of frames being written when the job stopped, or written by
-    // rank 1 and waiting for rank 0's sheet.
+    // " 3 5": the hidden folders of frames being written when the job stopped (rendered again),
+    // and of frames rank 1 wrote whole (finished from their images).
     std::string halfWritten;
+    std::string wholeWritten;
     for (int i = 0; i < kFrames; ++i) {
         // Appended piece by piece: GCC 12 warns (-Wrestrict) on "." + a + b.
         std::string hidden = ".";
         hidden += frameName(i);
-        if (!fs::exists(out / (hidden + ".partial")) && !fs::exists(out / (hidden + ".written"))) continue;
-        halfWritten += ' ';
-        halfWritten += std::to_string(i);
+        if (fs::exists(out / (hidden + ".written"))) {
+            wholeWritten += ' ';
+            wholeWritten += std::to_string(i);
+        } else if (fs::exists(out / (hidden + ".partial"))) {
+            halfWritten += ' ';
+            halfWritten += std::to_string(i);
+        }
     }
     // One process finishes the rest.
     const Fixture& f = fixture();
@@ -231,6 +239,10 @@ TEST(CvcMpiRender, AKilledRankStopsTheJobAndResumeCompletesTheFolder) {
     // The frames the killed job was writing (if it was killed while writing) are named.
     if (!halfWritten.empty()) {
         EXPECT_NE(resumed.out.find("the run that stopped was writing frame(s)" + halfWritten), std::string::npos)
+            << resumed.out;
+    }
+    if (!wholeWritten.empty()) {
+        EXPECT_NE(resumed.out.find("finished frame(s)" + wholeWritten + " from the images"), std::string::npos)
             << resumed.out;
     }
     expectSameFolders(reference(kFrames), out);

@@ -17,6 +17,7 @@
 #include "engine/output/png_reader.h"
 #include "engine/render/raycaster.h"
 #include "engine/render/volume_texture.h"
+#include "tests/support/folder_compare.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "volumes/analytic_phantom.h"
 #include "volumes/brick_minmax.h"
@@ -230,6 +231,40 @@ TEST_F(FrameSequence, CancellingKeepsFinishedFramesOnlyAndResumeCompletesTheRest
     EXPECT_EQ(resumed.framesRendered, 2);
     EXPECT_TRUE(fs::exists(out / "frame_0002" / "left" / "front.png"));
     EXPECT_EQ(fs::last_write_time(out / "frame_0000" / "sheet.png"), kept);
+}
+
+// A run stopped while rank 0 had not yet written another rank's sheet leaves that frame's
+// images whole in ".frame_NNNN.written": resuming composes its sheet from them instead of
+// rendering it again, while a ".partial" frame is rendered again. The folder ends byte for
+// byte as a run that never stopped wrote it.
+TEST_F(FrameSequence, ResumeFinishesAWrittenFrameFromItsImagesAndRendersAPartialOne) {
+    TubeScene scene(context());
+    scene.raycaster.setCubeMap(sMap->size, sMap->rgba);
+    engine::SequenceJob job = jobFor(smallCabin(conformal::MapKind::Conformal), 3);
+    job.isWritingBeforeAfter = true;
+    const fs::path whole = tmp("never_stopped");
+    const fs::path out = tmp("stopped_with_written_frame");
+    fs::remove_all(whole);
+    fs::remove_all(out);
+    engine::renderSequence(scene.raycaster, job, {whole.string()});
+    fs::copy(whole, out, fs::copy_options::recursive);
+    // Frame 1 as another rank leaves it: every image, no sheet. Frame 2 half written.
+    fs::rename(out / "frame_0001", out / ".frame_0001.written");
+    fs::remove(out / ".frame_0001.written" / "sheet.png");
+    fs::rename(out / "frame_0002", out / ".frame_0002.partial");
+    fs::remove(out / ".frame_0002.partial" / "right" / "floor.png");
+
+    std::vector<std::pair<int, int>> progress;
+    engine::SequenceHooks hooks;
+    hooks.onProgress = [&](int done, int total) { progress.emplace_back(done, total); };
+    const engine::SequenceSummary resumed =
+        engine::renderSequence(scene.raycaster, job, {out.string(), false, true}, hooks);
+    EXPECT_EQ(resumed.framesKept, 1);
+    EXPECT_EQ(resumed.framesFinishedFromImages, std::vector<int>{1});
+    EXPECT_EQ(resumed.framesLeftHalfWritten, std::vector<int>{2});
+    EXPECT_EQ(resumed.framesRendered, 1);
+    EXPECT_EQ(progress, (std::vector<std::pair<int, int>>{{1, 3}, {2, 3}, {3, 3}}));
+    testing_support::expectSameFolders(whole, out);
 }
 
 TEST_F(FrameSequence, HitsLieOnTheIsoSurfaceAndReprojectToTheirPixelsMissesAreNaN) {
