@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/render/raycaster.h"
+#include "engine/render/render_settings.h"
 
 namespace app {
 

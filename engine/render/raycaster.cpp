@@ -38,23 +38,6 @@ std::vector<vk::DescriptorType> raycastDescriptorTypes() {
     return types;
 }
 
-void validate(const RenderSettings& s) {
-    auto require = [](bool condition, const std::string& what) {
-        if (!condition) throw std::invalid_argument("render settings: " + what);
-    };
-    require(s.stepVoxels >= 0.01 && s.stepVoxels <= 8.0, "step must be 0.01..8 voxels");
-    require(s.skipCellVoxels >= 1 && s.skipCellVoxels <= 64, "skipping cells must be 1..64 voxels");
-    require(s.refinementSteps >= 0 && s.refinementSteps <= 32, "refinement steps must be 0..32");
-    require(std::isfinite(s.isoHu), "iso value must be finite");
-    require(s.minStepVoxels > 0.0 && s.minStepVoxels <= s.maxStepVoxels && s.maxStepVoxels <= 64.0,
-            "adaptive step bounds must satisfy 0 < min <= max <= 64 voxels");
-    require(s.earlyTerminationOpacity > 0.0 && s.earlyTerminationOpacity <= 1.0, "early termination opacity must be in (0, 1]");
-    require(s.lightHalfDistanceMm >= 0.0 && std::isfinite(s.lightHalfDistanceMm), "light half distance must be >= 0");
-    require(s.roughness > 0.0 && s.roughness <= 1.0 && s.fresnel >= 0.0 && s.fresnel <= 1.0 && s.ambient >= 0.0 &&
-                s.ambient <= 1.0,
-            "roughness in (0, 1], Fresnel and ambient in [0, 1]");
-}
-
 }  // namespace
 
 /// Output images and their readback buffers for one image size. The hit image is made on first
@@ -223,7 +206,7 @@ const SampledTexture& Raycaster::skipDistanceFor(const RenderSettings& settings)
 }
 
 void Raycaster::validateRequest(const RenderRequest& request) const {
-    validate(request.settings);
+    validateRenderSettings(request.settings);
     const ViewRays& rays = request.rays;
     if (rays.width < 1 || rays.height < 1 || rays.width > kMaxImageSide || rays.height > kMaxImageSide) {
         throw std::invalid_argument("image size " + std::to_string(rays.width) + "x" + std::to_string(rays.height) +

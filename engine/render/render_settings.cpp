@@ -1,0 +1,26 @@
+/// @brief The render settings' ranges.
+#include "engine/render/render_settings.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace engine {
+
+void validateRenderSettings(const RenderSettings& s) {
+    auto require = [](bool condition, const std::string& what) {
+        if (!condition) throw std::invalid_argument("render settings: " + what);
+    };
+    require(s.stepVoxels >= 0.01 && s.stepVoxels <= 8.0, "step must be 0.01..8 voxels");
+    require(s.skipCellVoxels >= 1 && s.skipCellVoxels <= 64, "skipping cells must be 1..64 voxels");
+    require(s.refinementSteps >= 0 && s.refinementSteps <= 32, "refinement steps must be 0..32");
+    require(std::isfinite(s.isoHu), "iso value must be finite");
+    require(s.minStepVoxels > 0.0 && s.minStepVoxels <= s.maxStepVoxels && s.maxStepVoxels <= 64.0,
+            "adaptive step bounds must satisfy 0 < min <= max <= 64 voxels");
+    require(s.earlyTerminationOpacity > 0.0 && s.earlyTerminationOpacity <= 1.0, "early termination opacity must be in (0, 1]");
+    require(s.lightHalfDistanceMm >= 0.0 && std::isfinite(s.lightHalfDistanceMm), "light half distance must be >= 0");
+    require(s.roughness > 0.0 && s.roughness <= 1.0 && s.fresnel >= 0.0 && s.fresnel <= 1.0 && s.ambient >= 0.0 &&
+                s.ambient <= 1.0,
+            "roughness in (0, 1], Fresnel and ambient in [0, 1]");
+}
+
+}  // namespace engine

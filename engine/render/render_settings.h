@@ -1,0 +1,86 @@
+/// @brief What one image is rendered with, free of Vulkan: the features (RenderSettings), how
+/// the rays are bent (Warp), the request that joins them to the rays, and the rendered image.
+/// Option parsing, manifests and the display pipeline build these; only the ray caster
+/// (raycaster.h) turns them into dispatches.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/render/view_rays.h"
+
+namespace engine {
+
+enum class RenderMode { IsoSurface, Composite };
+enum class VolumeFilter { Trilinear, Tricubic };
+/// How shading normals are computed: central differences of the trilinear interpolant (6 fetches;
+/// their kinks at voxel planes band coarse CT), or of the cubic B-spline interpolant (48 fetches,
+/// only where a sample is shaded; smooth across voxel planes, as the tricubic filter's). The
+/// tricubic filter always uses the B-spline's.
+enum class GradientFilter { Central, BSpline };
+/// How rays are bent: not at all; by mapping a ray's near and far points and marching the
+/// chord between them (paper Eq. 7, exact for an eye at the map centre); or by mapping every
+/// sample (the reference the chord is measured against for stereo eyes).
+enum class WarpMode { None, Chord, Exact };
+
+struct RenderSettings {
+    RenderMode mode = RenderMode::IsoSurface;
+    double isoHu = -500.0;                        // iso-surface mode: the air / soft-tissue boundary
+    std::string transferFunction = "colon-wall";  // composite mode: a preset name
+    double stepVoxels = 0.5;                      // base step, in units of the smallest voxel side
+    int refinementSteps = 6;                      // iso mode: bisection steps; 0 = the raw sample
+    VolumeFilter filter = VolumeFilter::Trilinear;
+    GradientFilter gradient = GradientFilter::BSpline;  // docs/benchmarks.md, "Shading normals on coarse CT"
+    bool isSkipping = true;                       // empty-space skipping over a distance map
+    int skipCellVoxels = 2;                       // cell edge of that map, voxels (8: the 8^3 bricks)
+    bool isAdaptive = false;                      // lengthen steps where a pixel covers > 1 voxel
+    double minStepVoxels = 0.25;                  // adaptive step bounds
+    double maxStepVoxels = 4.0;
+    double earlyTerminationOpacity = 0.98;        // composite mode
+    bool isJittered = false;                      // offset each ray's start by a hashed fraction
+    uint32_t jitterSeed = 0;
+    double lightHalfDistanceMm = 0.0;             // the headlight is half as bright here; 0: no falloff
+    double roughness = 0.45;                      // Cook-Torrance
+    double fresnel = 0.04;
+    double ambient = 0.10;
+    bool isWritingHits = true;                    // fill RenderedImage::hitMm
+    bool isCountingFetches = false;               // benchmarks: hitMm's w = volume fetches per ray
+    bool isWritingNormals = false;                // tests: hitMm's xyz = the shading normal, not the position
+    /// Chord warp: keep the cube-map texels of each pixel's chord ends in a table per display
+    /// geometry (wall, eye, scale), filled on first use and read on every later frame; false
+    /// fetches them per ray (the same images; tests and benchmarks compare the two).
+    bool isUsingChordTable = true;
+};
+
+/// The warp of space about the map centre (DESIGN.md "Rays"), in volume millimetres.
+struct Warp {
+    WarpMode mode = WarpMode::None;
+    glm::dvec3 mapCentreMm{0.0};
+    glm::dmat3 caveToVolume{1.0};  // columns: the CAVE's x, y, z axes as unit volume vectors
+};
+
+/// One rendered image: 8-bit RGBA colour and, per pixel, the first-hit position in volume
+/// millimetres (xyz) with w = 1 for a hit, 0 for a miss. Row 0 is the top of the image.
+/// Composite mode's hit is where the accumulated opacity first reaches 0.5.
+struct RenderedImage {
+    int width = 0;
+    int height = 0;
+    std::vector<uint8_t> rgba;
+    std::vector<float> hitMm;  // 4 floats per pixel; empty when hits were not asked for
+    double deviceMs = -1.0;    // time of the ray-casting dispatch on the device; < 0: unknown
+};
+
+/// One image to render: its rays, the features, and how the rays are bent.
+struct RenderRequest {
+    ViewRays rays;
+    RenderSettings settings;
+    Warp warp;
+};
+
+/// Throws std::invalid_argument naming the first setting outside its range.
+void validateRenderSettings(const RenderSettings& settings);
+
+}  // namespace engine
