@@ -115,7 +115,7 @@ struct SequenceSummary {
     int framesRendered = 0;  // by all ranks together
 
     int framesKept = 0;
-    std::vector<int> framesLeftHalfWritten;  // by a run that stopped (their hidden folders): rendered again
+    std::vector<int> framesLeftHalfWritten;  // by a run that stopped (".partial" folders): rendered again
     // Frames whose images a stopped run had all written (another rank's ".written" folder,
     // waiting for rank 0's sheet): this run composed their sheets and moved them into place.
     std::vector<int> framesFinishedFromImages;

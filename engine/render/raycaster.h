@@ -140,7 +140,7 @@ private:
     std::vector<bool> mIsSlotBusy;
     GpuImage mNoHitImage;  // bound where hits are not asked for (the shader then never writes it)
     // Chord tables by display geometry (quantised, in CAVE axes about the map centre), dropped
-    // when the cube map changes; past the byte budget, rays fetch their texels themselves.
+    // when the cube map changes; past the byte budget, a frame fills its slot's own table.
     std::map<std::vector<long long>, std::unique_ptr<GpuBuffer>> mChordTables;
     vk::DeviceSize mChordTableBytes = 0;
     std::uint64_t mChordTableBudgetBytes = std::uint64_t{1} << 30;

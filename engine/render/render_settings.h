@@ -49,9 +49,10 @@ struct RenderSettings {
     bool isWritingHits = true;                    // fill RenderedImage::hitMm
     bool isCountingFetches = false;               // benchmarks: hitMm's w = volume fetches per ray
     bool isWritingNormals = false;                // tests: hitMm's xyz = the shading normal, not the position
-    /// Chord warp: keep the cube-map texels of each pixel's chord ends in a table per display
+    /// Chord warp: keep the scene directions of each pixel's chord ends in a table per display
     /// geometry (wall, eye, scale), filled on first use and read on every later frame; false
-    /// fetches them per ray (the same images; tests and benchmarks compare the two).
+    /// fetches them from the cube map per ray (the same images but for float rounding; tests
+    /// and benchmarks compare the two).
     bool isUsingChordTable = true;
 };
 
