@@ -293,6 +293,15 @@ std::vector<RenderedImage> Raycaster::collect(RenderBatch& batch) {
 Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, int slotIndex) {
     const Warp& warp = request.warp;
     if (warp.mode != WarpMode::Chord || !request.settings.isUsingChordTable) return {};
+    // With the map centre outside the volume the chord's reach changes with the pose, so no
+    // two frames would share a table: such rays fetch per ray (the same for every run).
+    const auto dims = glm::dvec3(mVolume->dims()[0], mVolume->dims()[1], mVolume->dims()[2]);
+    const glm::dvec3 spacing = mVolume->spacingMm();
+    const glm::dvec3 boxMin = -0.5 * spacing;
+    const glm::dvec3 boxMax = (dims - 0.5) * spacing;
+    if (glm::any(glm::lessThan(warp.mapCentreMm, boxMin)) || glm::any(glm::greaterThan(warp.mapCentreMm, boxMax))) {
+        return {};
+    }
     // The key: everything the texels depend on, in CAVE axes about the map centre, where a
     // display's walls and eyes stay put while the pose moves them through the volume.
     // Quantised to a nanometre, far below what moves a texel, far above double's rounding.

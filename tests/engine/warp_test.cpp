@@ -224,6 +224,14 @@ TEST_F(WarpedWalls, ChordTableGivesThePerRayImageOnEveryPose) {
     const double perRayFetches = fetchesOf(room.raycaster.render(moved.rays, adaptivePerRay, moved.warp));
     EXPECT_NEAR(tableFetches / perRayFetches, 1.0, 1e-3) << tableFetches << " fetches against " << perRayFetches;
     EXPECT_EQ(room.raycaster.chordTableCount(), 3u);
+    // A map centre outside the volume: the chord's reach would change with the pose, so no
+    // table is kept and the rays fetch per ray.
+    auto outside = pose;
+    outside.positionMm = glm::dvec3(-30.0, 100.0, 100.0);
+    const auto away = engine::wallView(display, WallName::Front, engine::Eye::Left, outside, engine::WarpMode::Chord);
+    const auto awayImage = room.raycaster.render(away.rays, withTable, away.warp);
+    EXPECT_EQ(room.raycaster.chordTableCount(), 3u);
+    EXPECT_EQ(awayImage.rgba, room.raycaster.render(away.rays, perRay, away.warp).rgba);
     room.raycaster.setCubeMap(sLinear->size, sLinear->rgba);
     EXPECT_EQ(room.raycaster.chordTableCount(), 0u);
 }
