@@ -295,10 +295,7 @@ Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, 
     if (warp.mode != WarpMode::Chord || !request.settings.isUsingChordTable) return {};
     // With the map centre outside the volume the chord's reach changes with the pose, so no
     // two frames would share a table: such rays fetch per ray (the same for every run).
-    const auto dims = glm::dvec3(mVolume->dims()[0], mVolume->dims()[1], mVolume->dims()[2]);
-    const glm::dvec3 spacing = mVolume->spacingMm();
-    const glm::dvec3 boxMin = -0.5 * spacing;
-    const glm::dvec3 boxMax = (dims - 0.5) * spacing;
+    const auto [boxMin, boxMax] = volumeBoxMm();
     if (glm::any(glm::lessThan(warp.mapCentreMm, boxMin)) || glm::any(glm::greaterThan(warp.mapCentreMm, boxMax))) {
         return {};
     }
@@ -363,13 +360,17 @@ Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, 
     return use;
 }
 
+std::pair<glm::dvec3, glm::dvec3> Raycaster::volumeBoxMm() const {
+    // The box spans the voxels' outer faces, half a voxel beyond the centres.
+    const auto dims = glm::dvec3(mVolume->dims()[0], mVolume->dims()[1], mVolume->dims()[2]);
+    const glm::dvec3 spacing = mVolume->spacingMm();
+    return {-0.5 * spacing, (dims - 0.5) * spacing};
+}
+
 double Raycaster::chordReachMm(const glm::dvec3& mapCentreMm) const {
     // The box's diagonal plus the centre's distance from it bounds the distance from the centre
     // to any point of the box, and it does not change as the pose moves a centre inside the box.
-    const auto dims = glm::dvec3(mVolume->dims()[0], mVolume->dims()[1], mVolume->dims()[2]);
-    const glm::dvec3 spacing = mVolume->spacingMm();
-    const glm::dvec3 boxMin = -0.5 * spacing;
-    const glm::dvec3 boxMax = (dims - 0.5) * spacing;
+    const auto [boxMin, boxMax] = volumeBoxMm();
     const glm::dvec3 outside = glm::max(glm::max(boxMin - mapCentreMm, mapCentreMm - boxMax), glm::dvec3(0.0));
     return glm::length(boxMax - boxMin) + glm::length(outside);
 }
@@ -384,12 +385,10 @@ shaders::RaycastUniforms Raycaster::uniformsFor(const RenderRequest& request, co
     const RenderSettings& settings = request.settings;
     const Warp& warp = request.warp;
     const glm::dvec3 wallNormal = wallNormalOf(rays);
-    // Geometry of the volume: the box spans the voxels' outer faces, half a voxel beyond the centres.
     const auto dims = glm::dvec3(mVolume->dims()[0], mVolume->dims()[1], mVolume->dims()[2]);
     const glm::dvec3 spacing = mVolume->spacingMm();
     const double minSpacing = std::min({spacing.x, spacing.y, spacing.z});
-    const glm::dvec3 boxMin = -0.5 * spacing;
-    const glm::dvec3 boxMax = (dims - 0.5) * spacing;
+    const auto [boxMin, boxMax] = volumeBoxMm();
     const double stepMm = settings.stepVoxels * minSpacing;
     const double minStepMm = settings.isAdaptive ? std::min(stepMm, settings.minStepVoxels * minSpacing) : stepMm;
     // Bound on a ray's steps: the longest segment any mode marches, over the shortest step.
@@ -445,10 +444,8 @@ shaders::RaycastUniforms Raycaster::uniformsFor(const RenderRequest& request, co
 double Raycaster::chordReachFor(const Warp& warp) const {
     if (warp.mode != WarpMode::Exact) return chordReachMm(warp.mapCentreMm);
     // Exact mode marches all the way to the far end, so it stops at the farthest corner.
-    const auto dims = glm::dvec3(mVolume->dims()[0], mVolume->dims()[1], mVolume->dims()[2]);
-    const glm::dvec3 spacing = mVolume->spacingMm();
-    const glm::dvec3 farCorner =
-        glm::max(glm::abs(-0.5 * spacing - warp.mapCentreMm), glm::abs((dims - 0.5) * spacing - warp.mapCentreMm));
+    const auto [boxMin, boxMax] = volumeBoxMm();
+    const glm::dvec3 farCorner = glm::max(glm::abs(boxMin - warp.mapCentreMm), glm::abs(boxMax - warp.mapCentreMm));
     return glm::length(farCorner);
 }
 

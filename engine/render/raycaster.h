@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "engine/core/command_submission.h"
@@ -110,6 +111,8 @@ private:
     void recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex,
                        ChordTableUse chordTable);
     ChordTableUse chordTableFor(const RenderRequest& request, int slotIndex);
+    /// The volume's box in volume millimetres: its lower and upper corners.
+    std::pair<glm::dvec3, glm::dvec3> volumeBoxMm() const;
     /// How far beyond the near plane a chord's far end lies (see raycast.comp).
     double chordReachMm(const glm::dvec3& mapCentreMm) const;
     /// The uniforms' far reach for `warp`: the chord's, or for exact mode the farthest corner.
