@@ -57,7 +57,8 @@ void runBake(const BakeOptions& options) {
     const glm::dvec3 centre = settings.box.mapCentre;
     std::cout << "wrote " << conformal::mapKindName(settings.kind) << " cube map " << cube.size
               << "^2 x 6 for display '" << display.name << "', box " << box.x << " x " << box.y << " x " << box.z
-              << " m, map centre (" << centre.x << ", " << centre.y << ", " << centre.z << ") m, to "
+              << " m, lacking " << conformal::boxFaceNames(settings.box.missingFaces) << ", map centre ("
+              << centre.x << ", " << centre.y << ", " << centre.z << ") m, to "
               << options.outPath << " (input hash " << std::hex << std::setw(16) << std::setfill('0')
               << cube.inputHash << std::dec << std::setfill(' ') << "; ";
     if (report.wasLoadedFromCache) {
@@ -79,11 +80,11 @@ void addBakeCommand(CLI::App& program) {
         ->check(CLI::Range(2, 8192))
         ->capture_default_str();
     command->add_option("--display", options->display,
-                        "A preset (ic5) or a display JSON file: its box, map centre and map are baked (default: "
-                        "ic5; a display with all six walls has no map to bake)");
+                        "A preset (ic5, cave4) or a display JSON file: its box, map centre, missing walls and map "
+                        "are baked (default: ic5; a display with all six walls has no map to bake)");
     command->add_option("--box", options->boxSize,
-                        "Override the display's box: width (x), height (y), depth (z) in metres; the ceiling is "
-                        "missing (without --display: a custom CAVE)")
+                        "Override the display's box: width (x), height (y), depth (z) in metres (without "
+                        "--display: a custom CAVE lacking its ceiling)")
         ->expected(3);
     command->add_option("--centre", options->centre,
                         "Override the display's map centre in CAVE space (metres from the box centre)")

@@ -61,6 +61,7 @@ std::vector<engine::CameraPose> posesFrom(const RenderOptions& options) {
     request.maxFrames = options.maxFrames;
     request.polyp = options.polyp;
     request.polypElevationDeg = options.polypElevationDeg;
+    request.polypAzimuthDeg = options.polypAzimuthDeg;
     if (!options.positionMm.empty()) request.positionMm = vec3From(options.positionMm, "--position");
     if (!options.lookAtMm.empty()) request.lookAtMm = vec3From(options.lookAtMm, "--look-at");
     if (!options.up.empty()) request.up = vec3From(options.up, "--up");

@@ -97,7 +97,7 @@ void refuseOptionsNotApplying(const CLI::App& command, const RenderOptions& opti
         refuseGivenOptions(command,
                            {"--map", "--map-size", "--cube-map", "--warp", "--scale", "--before-after", "--path",
                             "--path-step", "--smoothing", "--retrograde", "--frames", "--distribute", "--polyp",
-                            "--polyp-elevation", "--resume"},
+                            "--polyp-elevation", "--polyp-azimuth", "--resume"},
                            "is for display renders (--display); a pinhole view is one image from one camera");
     } else {
         refuseGivenOptions(command, {"--fov", "--size"},
@@ -105,7 +105,8 @@ void refuseOptionsNotApplying(const CLI::App& command, const RenderOptions& opti
         refuseGivenOptions(command, {"--stats"}, "counts the fetches of a pinhole view; it is not for --display");
         if (options.pathFile.empty()) {
             refuseGivenOptions(command,
-                               {"--path-step", "--smoothing", "--retrograde", "--frames", "--polyp", "--polyp-elevation"},
+                               {"--path-step", "--smoothing", "--retrograde", "--frames", "--polyp", "--polyp-elevation",
+                                "--polyp-azimuth"},
                                "needs --path: without it the display renders the one pose of --position");
         } else {
             refuseGivenOptions(command, {"--position", "--look-at", "--up"},
@@ -114,7 +115,7 @@ void refuseOptionsNotApplying(const CLI::App& command, const RenderOptions& opti
         if (options.polyp >= 0) {
             refuseGivenOptions(command, {"--frames"}, "counts the frames of a fly-through; --polyp renders one pose");
         } else {
-            refuseGivenOptions(command, {"--polyp-elevation"}, "needs --polyp");
+            refuseGivenOptions(command, {"--polyp-elevation", "--polyp-azimuth"}, "needs --polyp");
         }
         if (!options.cubeMapFile.empty()) {
             refuseGivenOptions(command, {"--map-size"}, "is the bake's size; the file of --cube-map has its own");
@@ -224,8 +225,12 @@ void addRenderCommand(CLI::App& program) {
                         "One pose on the path from which polyp N of its ground truth is seen ahead and above")
         ->check(CLI::NonNegativeNumber)->group(display);
     command->add_option("--polyp-elevation", options->polypElevationDeg,
-                        "Degrees above the horizon at which --polyp is seen (above ~37: on the IC's ceiling)")
-        ->check(CLI::Range(-89.0, 89.0))->capture_default_str()->group(display);
+                        "Degrees above the horizon ahead at which --polyp is seen (above ~37: on the IC's ceiling; "
+                        "past 90: over the head and behind, past ~135 on cave4's missing back wall)")
+        ->check(CLI::Range(1.0, 179.0))->capture_default_str()->group(display);
+    command->add_option("--polyp-azimuth", options->polypAzimuthDeg,
+                        "Degrees to the right of straight up at which --polyp is seen (turns the view about its axis)")
+        ->check(CLI::Range(-180.0, 180.0))->capture_default_str()->group(display);
 
     auto* rendering = "Rendering";
     command->add_option("--mode", options->mode, "iso (first crossing of --iso) or composite (--tf)")

@@ -43,7 +43,8 @@ struct RenderOptions {
     // Several processes (mpirun): how the frames x eyes x walls are split
     std::string distribution = "frames";
     int polyp = -1;     // >= 0: one pose viewing this polyp of the path's ground truth
-    double polypElevationDeg = 60.0;  // ... seen ahead at this elevation (on the IC's ceiling)
+    double polypElevationDeg = 60.0;
+    double polypAzimuthDeg = 0.0;     // ... that many degrees right of straight up  // ... seen ahead at this elevation (on the IC's ceiling)
     // Rendering
     std::string mode = "iso";
     std::string filter = "trilinear";

@@ -22,19 +22,80 @@ namespace {
 
 using Complex = std::complex<double>;
 
-/// Aligns a disk map so that ceiling corners 0, 1, 2 go to 1, i, -1.
-void alignCorners(std::vector<Complex>& disk, const std::array<int, 4>& corners) {
-    std::array<Complex, 3> images{};
-    for (int k = 0; k < 3; ++k) images[k] = disk[corners[k]] / std::abs(disk[corners[k]]);
-    const Mobius align = mobiusAligningCorners(images);
-    for (auto& z : disk) z = align(z);
+/// The sector whose points the alignment fixes: the one owning the boundary point of the
+/// display domain nearest the front wall's centre (for the cabin the ceiling's front triangle).
+int alignmentSectorOf(const SphereMesh& display) {
+    const glm::dvec3 front =
+        glm::normalize(glm::dvec3(0.0, 0.0, -0.5 * display.box.size.z) - display.box.mapCentre);
+    int sector = -1;
+    double best = -2.0;
+    for (std::size_t v = 0; v < display.mesh.positions.size(); ++v) {
+        if (display.missingSector[v] < 0) continue;
+        const double closeness = glm::dot(display.mesh.positions[v], front);
+        if (closeness > best) {
+            best = closeness;
+            sector = display.missingSector[v];
+        }
+    }
+    if (sector < 0) throw std::logic_error("conformal map: the display mesh has no boundary");
+    return sector;
 }
 
-std::vector<Complex> diskOfSphere(const SphereMesh& sphere, const RicciFlowSettings& flow,
-                                  RiemannMapReport* report, const std::vector<double>* initialLogScale) {
-    std::vector<Complex> disk = diskFromMesh(sphere.mesh, sphere.nadirVertex, flow, report, 0.0, initialLogScale);
-    alignCorners(disk, sphere.cornerVertices);
-    return disk;
+/// The three vertices the alignment fixes: the sector's two tips and, between them, the point
+/// as far from one as from the other: on Omega5 the middle of the sector's boundary edges, on
+/// Omega6 the middle of its side of the slit (for a mirror-symmetric sector the two correspond,
+/// so the aligned F keeps the mirror symmetry).
+std::array<int, 3> alignmentVertices(const SphereMesh& sphere, int sector) {
+    const int tipA = sphere.cornerVertices[sphere.sectorTips[sector][0]];
+    const int tipB = sphere.cornerVertices[sphere.sectorTips[sector][1]];
+    const auto& p = sphere.mesh.positions;
+    auto angle = [](const glm::dvec3& u, const glm::dvec3& v) {
+        return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
+    };
+    int middle = -1;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t v = 0; v < p.size(); ++v) {
+        const bool isCandidate = sphere.domain == SphereDomain::Scene ? sphere.slitSector[v] == sector
+                                                                      : sphere.missingSector[v] == sector;
+        if (!isCandidate) continue;
+        const double imbalance = std::abs(angle(p[v], p[tipA]) - angle(p[v], p[tipB]));
+        if (imbalance < best) {
+            best = imbalance;
+            middle = static_cast<int>(v);
+        }
+    }
+    if (middle < 0) throw std::logic_error("conformal map: the alignment sector has no middle vertex");
+    return {tipA, middle, tipB};
+}
+
+/// True when a, m, b follow each other counter-clockwise on the unit circle.
+bool isCounterClockwise(Complex a, Complex m, Complex b) {
+    const double twoPi = 2.0 * std::numbers::pi;
+    const double toMiddle = std::fmod(std::arg(m / a) + twoPi, twoPi);
+    const double toEnd = std::fmod(std::arg(b / a) + twoPi, twoPi);
+    return toMiddle < toEnd;
+}
+
+/// Aligns a disk map: the sector's tips and middle (in counter-clockwise order) go to -1,
+/// e^{-3 i pi / 4} and -i, where the paper's alignment of the cabin (ceiling corners 0, 1, 2 to
+/// 1, i, -1) puts its corners 2 and 3 and the middle of the ceiling's front edge. Returns
+/// whether the sector's tips had to be swapped to be counter-clockwise.
+bool alignCorners(std::vector<Complex>& disk, const SphereMesh& sphere, int sector) {
+    std::array<int, 3> points = alignmentVertices(sphere, sector);
+    std::array<Complex, 3> images{};
+    for (int k = 0; k < 3; ++k) images[k] = disk[points[k]] / std::abs(disk[points[k]]);
+    const bool isSwapped = !isCounterClockwise(images[0], images[1], images[2]);
+    if (isSwapped) std::swap(images[0], images[2]);
+    const Mobius align = mobiusFromThreePoints(
+        images, {Complex(-1.0, 0.0), std::polar(1.0, -0.75 * std::numbers::pi), Complex(0.0, -1.0)});
+    for (auto& z : disk) z = align(z);
+    return isSwapped;
+}
+
+bool diskOfSphere(const SphereMesh& sphere, int sector, const RicciFlowSettings& flow, RiemannMapReport* report,
+                  const std::vector<double>* initialLogScale, std::vector<Complex>& disk) {
+    disk = diskFromMesh(sphere.mesh, sphere.nadirVertex, flow, report, 0.0, initialLogScale);
+    return alignCorners(disk, sphere, sector);
 }
 
 /// The inverse of a Riemann map at disk point `zeta`: located in the disk mesh, then the smooth
@@ -81,24 +142,28 @@ glm::dvec3 unitDirection(const glm::dvec3& v, const char* what) {
 ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(settings) {
     const auto start = std::chrono::steady_clock::now();
     validateCaveBox(settings.box);
-    auto buildSide = [&settings](SphereDomain domain, SphereMesh& sphere, std::vector<Complex>& disk,
-                                 RiemannMapReport* report, bool* isExtrapolated) {
+    mDisplay = buildSphereMesh(settings.box, SphereDomain::Display, settings.mesh);
+    const int sector = alignmentSectorOf(mDisplay);
+    mReport.alignmentSector = sector;
+    // Builds one side on its mesh `sphere` (already built for the display side); returns whether
+    // the alignment swapped the sector's tips.
+    auto buildSide = [&settings, sector](SphereDomain domain, SphereMesh& sphere, std::vector<Complex>& disk,
+                                         RiemannMapReport* report, bool* isExtrapolated) {
         *isExtrapolated = settings.isExtrapolated;
-        sphere = buildSphereMesh(settings.box, domain, settings.mesh);
-        if (!settings.isExtrapolated) {
-            disk = diskOfSphere(sphere, settings.flow, report, nullptr);
-            return;
-        }
+        if (domain == SphereDomain::Scene) sphere = buildSphereMesh(settings.box, domain, settings.mesh);
+        if (!settings.isExtrapolated) return diskOfSphere(sphere, sector, settings.flow, report, nullptr, disk);
         // The half-resolution mesh first: its flow is cheap, gives the fine flow its starting
         // point, and its map the error estimate that Richardson extrapolation removes.
         SphereMeshSettings coarseSettings = settings.mesh;
         coarseSettings.coarsening = 2;
         const SphereMesh coarse = buildSphereMesh(settings.box, domain, coarseSettings);
         RiemannMapReport coarseReport;
-        const std::vector<Complex> coarseDisk = diskOfSphere(coarse, settings.flow, &coarseReport, nullptr);
+        std::vector<Complex> coarseDisk;
+        diskOfSphere(coarse, sector, settings.flow, &coarseReport, nullptr, coarseDisk);
         const LatticeParents parents = latticeParents(sphere, coarse);
         const std::vector<double> guess = prolongFromCoarse(parents, coarseReport.vertexLogScale);
-        const std::vector<Complex> fineDisk = diskOfSphere(sphere, settings.flow, report, &guess);
+        std::vector<Complex> fineDisk;
+        const bool isSwapped = diskOfSphere(sphere, sector, settings.flow, report, &guess, fineDisk);
         disk = extrapolateFromCoarse(parents, fineDisk, coarseDisk);
         // Richardson's step moves boundary values along chords of the circle, off it (2e-6 at
         // the default resolution, 4e-3 on coarse graded meshes); a Riemann map's boundary is
@@ -114,53 +179,118 @@ ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(set
             disk = fineDisk;
             *isExtrapolated = false;
         }
+        return isSwapped;
     };
     // The two sides are independent: mesh and flow them on two threads.
     auto sceneJob = std::async(std::launch::async, [&] {
-        buildSide(SphereDomain::Scene, mScene, mSceneDisk, &mReport.scene, &mReport.isSceneExtrapolated);
+        return buildSide(SphereDomain::Scene, mScene, mSceneDisk, &mReport.scene, &mReport.isSceneExtrapolated);
     });
-    buildSide(SphereDomain::Display, mDisplay, mDisplayDisk, &mReport.display, &mReport.isDisplayExtrapolated);
-    sceneJob.get();
+    const bool isDisplaySwapped =
+        buildSide(SphereDomain::Display, mDisplay, mDisplayDisk, &mReport.display, &mReport.isDisplayExtrapolated);
+    if (sceneJob.get() != isDisplaySwapped) {
+        throw std::logic_error("conformal map: the two disks order the alignment sector's tips differently");
+    }
 
     mSceneLocator = DiskLocator(mSceneDisk, mScene.mesh.triangles);
     mDisplayLocator = DiskLocator(mDisplayDisk, mDisplay.mesh.triangles);
-    // Where the maps are not smooth: the ceiling corners on both sides (slit tips of Omega6,
-    // reflex corners of Omega5) and the zenith's copies on the scene side.
-    const auto corners = ceilingCornerDirections(settings.box);
-    const glm::dvec3 zenithDirection =
-        glm::normalize(glm::dvec3(0.0, 0.5 * settings.box.size.y, 0.0) - settings.box.mapCentre);
     auto chartAngle = [](const glm::dvec3& at, const glm::dvec3& toward) {
         return std::arg(SphereChart(at).chartFromDirection(toward));
     };
+    const double twoPi = 2.0 * std::numbers::pi;
+    auto ccwFrom = [twoPi](double from, double to) { return std::fmod(to - from + 2.0 * twoPi, twoPi); };
+    // The wedge between sorted arm angles that holds `inside`: its start and width.
+    auto wedgeHolding = [&](std::vector<double> arms, double inside) {
+        std::sort(arms.begin(), arms.end());
+        for (std::size_t k = 0; k < arms.size(); ++k) {
+            const double from = arms[k];
+            const double width = arms.size() == 1 ? twoPi : ccwFrom(from, arms[(k + 1) % arms.size()]);
+            if (ccwFrom(from, inside) < width) return std::pair<double, double>(from, width);
+        }
+        return std::pair<double, double>(arms.front(), twoPi);
+    };
+    const CaveBox& box = settings.box;
+    auto vertexAtCorner = [](const SphereMesh& sphere, const glm::dvec3& direction) {
+        for (std::size_t v = 0; v < sphere.mesh.positions.size(); ++v) {
+            if (sphere.slitSector[v] < 0 && glm::length(sphere.mesh.positions[v] - direction) < 1e-12) {
+                return static_cast<int>(v);
+            }
+        }
+        throw std::logic_error("conformal map: a box corner is not a mesh vertex");
+    };
+
+    // Where the maps are not smooth. On the display side the boundary's corners: the visible
+    // wedge between the two boundary edges there (reflex where one face is missing, convex
+    // where two are).
     std::vector<SingularPoint> sceneSingular;
     std::vector<SingularPoint> displaySingular;
-    for (int k = 0; k < 4; ++k) {
-        const glm::dvec3& c = corners[k];
-        // The ceiling's spherical angle at corner k, between the edges to its neighbours.
-        double ceilingAngle = chartAngle(c, corners[(k + 3) % 4]) - chartAngle(c, corners[(k + 1) % 4]);
-        ceilingAngle = std::abs(std::remainder(ceilingAngle, 2.0 * std::numbers::pi));
-        SingularPoint reflex;
-        reflex.vertex = mDisplay.cornerVertices[k];
-        reflex.exponent = std::numbers::pi / (2.0 * std::numbers::pi - ceilingAngle);
-        reflex.wedgeAngle = chartAngle(c, zenithDirection) + std::numbers::pi;
-        displaySingular.push_back(reflex);
+    for (const int corner : boundaryCorners(box)) {
+        const glm::dvec3 c = boxCornerDirection(box, corner);
+        std::vector<double> arms;
+        for (int axis = 0; axis < 3; ++axis) {
+            // The box edge from this corner along `axis` lies on the two faces at the corner of
+            // the other axes; it bounds the display domain when exactly one of them is missing.
+            const auto faces = facesAtCorner(corner);
+            const int missing = (isFaceMissing(box, faces[(axis + 1) % 3]) ? 1 : 0) +
+                                (isFaceMissing(box, faces[(axis + 2) % 3]) ? 1 : 0);
+            if (missing == 1) arms.push_back(chartAngle(c, boxCornerDirection(box, corner ^ (1 << axis))));
+        }
+        int presentFace = -1;
+        for (const int face : facesAtCorner(corner)) {
+            if (!isFaceMissing(box, face)) presentFace = face;
+        }
+        glm::dvec3 faceCentre(0.0);
+        faceCentre[presentFace / 2] = (presentFace % 2 == 0 ? 0.5 : -0.5) * box.size[presentFace / 2];
+        const auto [from, width] = wedgeHolding(arms, chartAngle(c, glm::normalize(faceCentre - box.mapCentre)));
+        SingularPoint point;
+        point.vertex = vertexAtCorner(mDisplay, c);
+        point.exponent = std::numbers::pi / width;
+        point.wedgeAngle = from + 0.5 * width;
+        displaySingular.push_back(point);
+    }
+    // On the scene side the slit's tips, and its copies of points where the slit branches or
+    // bends: there each copy's wedge between two of the slit's arms.
+    for (const int v : mScene.cornerVertices) {
         SingularPoint tip;
-        tip.vertex = mScene.cornerVertices[k];
+        tip.vertex = v;
         tip.exponent = 0.5;
         tip.isInverseSmooth = true;
         sceneSingular.push_back(tip);
     }
+    std::vector<std::vector<int>> trianglesOfVertex(mScene.mesh.positions.size());
+    for (std::size_t t = 0; t < mScene.mesh.triangles.size(); ++t) {
+        for (const int v : mScene.mesh.triangles[t]) trianglesOfVertex[v].push_back(static_cast<int>(t));
+    }
     for (std::size_t v = 0; v < mScene.mesh.positions.size(); ++v) {
-        if (glm::length(mScene.mesh.positions[v] - zenithDirection) > 1e-12) continue;
-        // Zenith copy of sector k: the wedge between the slit arcs to corners k and k + 1.
-        const int k = mScene.slitSector[v];
-        double sectorAngle = chartAngle(zenithDirection, corners[(k + 1) % 4]) - chartAngle(zenithDirection, corners[k]);
-        sectorAngle = std::abs(std::remainder(sectorAngle, 2.0 * std::numbers::pi));
-        SingularPoint zenith;
-        zenith.vertex = static_cast<int>(v);
-        zenith.exponent = std::numbers::pi / sectorAngle;
-        zenith.wedgeAngle = chartAngle(zenithDirection, glm::normalize(corners[k] + corners[(k + 1) % 4]));
-        sceneSingular.push_back(zenith);
+        if (mScene.slitSector[v] < 0) continue;
+        const auto& at = mScene.lattice[v];
+        const glm::dvec3 p = mScene.mesh.positions[v];
+        std::vector<double> arms;
+        for (const SlitSegment& run : mScene.slit) {
+            for (int k = 0; k <= run.steps; ++k) {
+                const std::array<int, 3> point = {run.from[0] + k * run.step[0], run.from[1] + k * run.step[1],
+                                                  run.from[2] + k * run.step[2]};
+                if (point != at) continue;
+                for (const int next : {k - 1, k + 1}) {
+                    if (next < 0 || next > run.steps) continue;
+                    const glm::dvec3 q(mScene.gridLines[0][run.from[0] + next * run.step[0]],
+                                       mScene.gridLines[1][run.from[1] + next * run.step[1]],
+                                       mScene.gridLines[2][run.from[2] + next * run.step[2]]);
+                    arms.push_back(chartAngle(p, glm::normalize(q - box.mapCentre)));
+                }
+            }
+        }
+        const bool isStraight = arms.size() == 2 &&
+                                std::abs(std::remainder(arms[0] - arms[1], twoPi)) > std::numbers::pi - 1e-9;
+        if (isStraight || arms.empty()) continue;
+        const auto& tri = mScene.mesh.triangles[trianglesOfVertex[v].front()];
+        const glm::dvec3 inside = glm::normalize(mScene.mesh.positions[tri[0]] + mScene.mesh.positions[tri[1]] +
+                                                 mScene.mesh.positions[tri[2]]);
+        const auto [from, width] = wedgeHolding(arms, chartAngle(p, inside));
+        SingularPoint branch;
+        branch.vertex = static_cast<int>(v);
+        branch.exponent = std::numbers::pi / width;
+        branch.wedgeAngle = from + 0.5 * width;
+        sceneSingular.push_back(branch);
     }
     mIsSmooth = settings.interpolation == MeshInterpolation::HolomorphicQuadratic;
     if (mIsSmooth) {
@@ -169,13 +299,36 @@ ConformalMap::ConformalMap(const ConformalMapSettings& settings) : mSettings(set
         mSceneInverse = PlaneToSphereInterpolant(mScene.mesh, mSceneDisk, sceneSingular);
         mDisplayInverse = PlaneToSphereInterpolant(mDisplay.mesh, mDisplayDisk, displaySingular);
     }
-    for (int k = 0; k < 4; ++k) {
-        glm::dvec3 normal = glm::normalize(glm::cross(corners[k], corners[(k + 1) % 4]));
-        if (glm::dot(normal, zenithDirection) < 0.0) normal = -normal;
-        mEdgeNormals[k] = normal;
+    // The edges between missing and present faces, per missing face, for the extension.
+    for (int face = 0; face < kBoxFaceCount; ++face) {
+        if (!isFaceMissing(box, face)) continue;
+        glm::dvec3 centre(0.0);
+        centre[face / 2] = (face % 2 == 0 ? 0.5 : -0.5) * box.size[face / 2];
+        const glm::dvec3 inward = glm::normalize(centre - box.mapCentre);
+        for (int corner = 0; corner < 8; ++corner) {
+            const auto faces = facesAtCorner(corner);
+            if (std::find(faces.begin(), faces.end(), face) == faces.end()) continue;
+            for (int axis = 0; axis < 3; ++axis) {
+                const int other = corner ^ (1 << axis);
+                if (axis == face / 2 || other < corner) continue;
+                // The edge from `corner` along `axis` lies on `face` and on the face of the third axis.
+                const int neighbour = faces[3 - axis - face / 2];
+                if (isFaceMissing(box, neighbour)) continue;
+                BoundaryEdge edge;
+                edge.from = boxCornerDirection(box, corner);
+                edge.to = boxCornerDirection(box, other);
+                edge.normal = glm::normalize(glm::cross(edge.from, edge.to));
+                if (glm::dot(edge.normal, inward) < 0.0) edge.normal = -edge.normal;
+                mBoundaryEdges[face].push_back(edge);
+            }
+        }
     }
-    mReport.sceneCorner3 = mSceneDisk[mScene.cornerVertices[3]];
-    mReport.displayCorner3 = mDisplayDisk[mDisplay.cornerVertices[3]];
+    for (const int v : mScene.cornerVertices) mReport.sceneTips.push_back(mSceneDisk[v]);
+    for (const int v : mDisplay.cornerVertices) mReport.displayTips.push_back(mDisplayDisk[v]);
+    for (std::size_t k = 0; k < mReport.sceneTips.size(); ++k) {
+        const double degrees = std::abs(std::arg(mReport.sceneTips[k] / mReport.displayTips[k])) * 180.0 / std::numbers::pi;
+        mReport.tipMismatchDegrees = std::max(mReport.tipMismatchDegrees, degrees);
+    }
     mReport.sceneNadir = mSceneDisk[mScene.nadirVertex];
     mReport.displayNadir = mDisplayDisk[mDisplay.nadirVertex];
     mReport.seconds =
@@ -217,36 +370,55 @@ glm::dvec3 ConformalMap::displayFromDisk(Complex zeta) const {
     return sphereFromDisk(mDisplayLocator, mDisplayInverse, mDisplay.mesh, mIsSmooth, zeta);
 }
 
+bool ConformalMap::sceneFromVisible(const glm::dvec3& display, glm::dvec3& scene) const {
+    const MeshLocation location = locateDirection(mDisplay, display);
+    if (location.triangle < 0) return false;
+    scene = sceneFromDisk(displayDiskAt(location, display));
+    return true;
+}
+
 glm::dvec3 ConformalMap::sceneFromDisplay(const glm::dvec3& display) const {
     const glm::dvec3 d = unitDirection(display, "display");
-    const MeshLocation location = locateDirection(mDisplay, d);
-    if (location.triangle < 0) return ceilingExtension(d);
-    return sceneFromDisk(displayDiskAt(location, d));
+    glm::dvec3 scene;
+    return sceneFromVisible(d, scene) ? scene : missingExtension(d);
 }
 
 glm::dvec3 ConformalMap::displayFromScene(const glm::dvec3& scene) const {
     return displayFromDisk(diskFromScene(scene));
 }
 
-glm::dvec3 ConformalMap::ceilingExtension(const glm::dvec3& display) const {
-    // Point reflection through the foot on the nearest ceiling edge: F(b + v) := 2 F(b) - F(b - v)
-    // continues F with its value and normal derivative across the edge.
-    int nearest = 0;
-    double nearestDistance = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 4; ++k) {
-        const double distance = std::abs(glm::dot(display, mEdgeNormals[k]));
-        if (distance < nearestDistance) {
-            nearestDistance = distance;
-            nearest = k;
+glm::dvec3 ConformalMap::missingExtension(const glm::dvec3& display) const {
+    // Point reflection through the foot on the nearest edge of the direction's missing face:
+    // F(b + v) := 2 F(b) - F(b - v) continues F with its value and normal derivative across the
+    // edge. Only texels near the edges matter (filtering across them); deeper in, where the
+    // foot or the mirrored direction falls outside the display domain, the value at the foot
+    // or at the edge's nearer corner is held.
+    // The edges of the direction's missing face; every edge where rounding put a direction on
+    // an edge outside both the mesh and the missing faces' closed rectangles.
+    const int face = missingFaceOfDirection(mSettings.box, display);
+    const BoundaryEdge* nearest = nullptr;
+    for (int f = 0; f < kBoxFaceCount; ++f) {
+        if (face >= 0 && f != face) continue;
+        for (const BoundaryEdge& edge : mBoundaryEdges[f]) {
+            if (!nearest || std::abs(glm::dot(display, edge.normal)) < std::abs(glm::dot(display, nearest->normal))) {
+                nearest = &edge;
+            }
         }
     }
-    const glm::dvec3& normal = mEdgeNormals[nearest];
+    if (!nearest) return display;  // no edge at all: validateCaveBox refuses such a box
+    const glm::dvec3& normal = nearest->normal;
     const double height = glm::dot(display, normal);
     const glm::dvec3 mirrored = display - 2.0 * height * normal;
-    constexpr double kInset = 1e-9;  // moves the foot off the edge into Omega5
-    const glm::dvec3 foot = glm::normalize(display - (height + kInset) * normal);
-    const glm::dvec3 onEdge = sceneFromDisplay(foot);
-    const glm::dvec3 across = sceneFromDisplay(mirrored);
+    constexpr double kInset = 1e-9;  // moves the foot off the edge into the display domain
+    glm::dvec3 onEdge;
+    if (!sceneFromVisible(glm::normalize(display - (height + kInset) * normal), onEdge)) {
+        const glm::dvec3& corner =
+            glm::dot(display, nearest->from) > glm::dot(display, nearest->to) ? nearest->from : nearest->to;
+        if (!sceneFromVisible(corner, onEdge)) return display;
+        return onEdge;
+    }
+    glm::dvec3 across;
+    if (!sceneFromVisible(mirrored, across)) return onEdge;
     const glm::dvec3 extended = 2.0 * onEdge - across;
     const double length = glm::length(extended);
     return length > 1e-12 ? extended / length : onEdge;

@@ -34,8 +34,13 @@ struct ConformalMapSettings {
 struct ConformalMapReport {
     RiemannMapReport scene;      ///< phi6's construction
     RiemannMapReport display;    ///< phi5's construction
-    std::complex<double> sceneCorner3{0.0};    ///< phi6 image of the fourth corner (-i for a cube)
-    std::complex<double> displayCorner3{0.0};  ///< phi5 image of the fourth corner
+    /// phi6 and phi5 images of the slit's tips (order of SphereMesh::cornerVertices). The
+    /// alignment fixes two of them; where the others differ between the two disks, F does not
+    /// send that reflex corner exactly onto its tip. For the cabin corner k goes to i^k.
+    std::vector<std::complex<double>> sceneTips;
+    std::vector<std::complex<double>> displayTips;
+    double tipMismatchDegrees = 0.0;           ///< largest angle between a tip's two images
+    int alignmentSector = -1;                  ///< the sector whose tips and middle are aligned
     std::complex<double> sceneNadir{0.0};      ///< phi6 image of the floor centre
     std::complex<double> displayNadir{0.0};    ///< phi5 image of the floor centre
     double seconds = 0.0;                      ///< wall-clock time to build
@@ -75,7 +80,17 @@ public:
     const ConformalMapSettings& settings() const { return mSettings; }
 
 private:
-    glm::dvec3 ceilingExtension(const glm::dvec3& display) const;
+    /// One edge between a missing face and a present one: the plane through it and the map
+    /// centre (normal toward the missing side) and the directions of its two corners.
+    struct BoundaryEdge {
+        glm::dvec3 normal{0.0};
+        glm::dvec3 from{0.0};
+        glm::dvec3 to{0.0};
+    };
+
+    glm::dvec3 missingExtension(const glm::dvec3& display) const;
+    /// F at a direction of the closed display domain; false outside it.
+    bool sceneFromVisible(const glm::dvec3& display, glm::dvec3& scene) const;
     std::complex<double> displayDiskAt(const MeshLocation& location, const glm::dvec3& display) const;
 
     ConformalMapSettings mSettings;
@@ -90,7 +105,7 @@ private:
     PlaneToSphereInterpolant mSceneInverse;     ///< phi6^-1
     PlaneToSphereInterpolant mDisplayInverse;   ///< phi5^-1
     bool mIsSmooth = true;
-    std::array<glm::dvec3, 4> mEdgeNormals{};  ///< outward normals of the ceiling edges' planes
+    std::array<std::vector<BoundaryEdge>, kBoxFaceCount> mBoundaryEdges;  ///< per missing face
     ConformalMapReport mReport;
 };
 

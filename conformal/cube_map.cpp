@@ -14,7 +14,10 @@ namespace conformal {
 namespace {
 
 constexpr char kMagic[8] = {'C', 'V', 'C', 'C', 'U', 'B', 'E', '\0'};
-constexpr std::uint32_t kVersion = 1;
+/// Version 2 records the missing walls where version 1 held a reserved 0; a version-1 file is a
+/// map for a display without its ceiling, and still loads as one.
+constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kCeilingOnlyVersion = 1;
 constexpr int kMaxSize = 16384;
 
 struct FileHeader {
@@ -22,7 +25,7 @@ struct FileHeader {
     std::uint32_t version;
     std::uint32_t size;
     std::uint32_t kind;
-    std::uint32_t reserved;
+    std::uint32_t missingFaces;  ///< bit f: face f (Vulkan order) is missing; reserved 0 in version 1
     double boxSize[3];
     double mapCentre[3];
     std::uint64_t inputHash;
@@ -139,6 +142,7 @@ void saveCubeMap(const CubeMap& map, const std::filesystem::path& path) {
         header.boxSize[a] = map.box.size[a];
         header.mapCentre[a] = map.box.mapCentre[a];
     }
+    header.missingFaces = map.box.missingFaces;
     header.inputHash = map.inputHash;
     header.payloadBytes = payload;
     // Write beside the target and rename, so a reader never sees a half-written file.
@@ -167,9 +171,10 @@ CubeMap loadCubeMap(const std::filesystem::path& path) {
     if (std::memcmp(header.magic, kMagic, sizeof(kMagic)) != 0) {
         throw CubeMapFileError(name + "wrong magic; not a conformal-vc cube map");
     }
-    if (header.version != kVersion) {
+    if (header.version != kVersion && header.version != kCeilingOnlyVersion) {
         throw CubeMapFileError(name + "unsupported version " + std::to_string(header.version) +
-                               " (expected " + std::to_string(kVersion) + ")");
+                               " (expected " + std::to_string(kCeilingOnlyVersion) + " or " +
+                               std::to_string(kVersion) + ")");
     }
     if (header.size == 0 || header.size > kMaxSize) {
         throw CubeMapFileError(name + "face size " + std::to_string(header.size) +
@@ -194,6 +199,7 @@ CubeMap loadCubeMap(const std::filesystem::path& path) {
         map.box.size[a] = header.boxSize[a];
         map.box.mapCentre[a] = header.mapCentre[a];
     }
+    map.box.missingFaces = header.version == kCeilingOnlyVersion ? faceBit(kCeilingFace) : header.missingFaces;
     map.inputHash = header.inputHash;
     try {
         validateCaveBox(map.box);

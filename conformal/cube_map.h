@@ -71,8 +71,9 @@ CubeFaceCoordinate cubeFaceFromDirection(const glm::dvec3& direction);
 /// read the adjacent face's nearest texel).
 glm::vec4 sampleCubeMapBilinear(const CubeMap& map, const glm::dvec3& direction);
 
-/// File format (little-endian): the 8 bytes "CVCCUBE\0", uint32 version (1), uint32 size,
-/// uint32 map kind, uint32 reserved (0), float64 box size[3], float64 map centre[3], uint64
+/// File format (little-endian): the 8 bytes "CVCCUBE\0", uint32 version (2), uint32 size,
+/// uint32 map kind, uint32 missing faces (bit f: face f in Vulkan order; version 1 files hold 0
+/// here and are maps for a display without its ceiling), float64 box size[3], float64 map centre[3], uint64
 /// input hash, uint64 payload byte count (= 6 size^2 16), then the texels as float32.
 /// Throws CubeMapFileError for a map of kind None (such a file would be malformed).
 void saveCubeMap(const CubeMap& map, const std::filesystem::path& path);

@@ -23,7 +23,7 @@ namespace {
 /// Bumped whenever the map's construction or the bake changes, so old cache files miss.
 // 2: the Riemann map's hole fill keeps clear of the boundary, and extrapolated boundary values
 // are put back on the unit circle (cached bakes of version 1 are rebuilt).
-constexpr const char* kAlgorithmVersion = "conformal-vc bake 2";
+constexpr const char* kAlgorithmVersion = "conformal-vc bake 3";
 constexpr int kMaxBakeSize = 8192;
 
 /// MapKind::None asks for no bending, so there is no map to bake: refuse it before any work.
@@ -57,7 +57,7 @@ std::uint64_t bakeInputHash(const BakeSettings& settings) {
     text << std::setprecision(17) << kAlgorithmVersion << '|' << settings.size << '|'
          << static_cast<int>(settings.kind) << '|' << settings.box.size.x << ',' << settings.box.size.y
          << ',' << settings.box.size.z << '|' << settings.box.mapCentre.x << ','
-         << settings.box.mapCentre.y << ',' << settings.box.mapCentre.z;
+         << settings.box.mapCentre.y << ',' << settings.box.mapCentre.z << '|' << settings.box.missingFaces;
     if (settings.kind == MapKind::Conformal) {
         text << '|' << settings.mesh.resolution << '|' << settings.mesh.grading << '|'
              << static_cast<int>(settings.flow.metric) << '|' << settings.flow.tolerance;

@@ -69,7 +69,8 @@ std::vector<MapJacobian> cubeMapJacobians(const CubeMap& map) {
 DistortionStatistics distortionStatistics(const CubeMap& map, double cornerExclusionDegrees) {
     const int n = map.size;
     const auto jacobians = cubeMapJacobians(map);
-    const auto corners = ceilingCornerDirections(map.box);
+    std::vector<glm::dvec3> corners;
+    for (const int corner : boundaryCorners(map.box)) corners.push_back(boxCornerDirection(map.box, corner));
     const double cosExclusion = std::cos(cornerExclusionDegrees * std::numbers::pi / 180.0);
     std::vector<double> values;
     DistortionStatistics stats;
@@ -78,15 +79,15 @@ DistortionStatistics distortionStatistics(const CubeMap& map, double cornerExclu
         for (int j = 0; j < n; ++j) {
             for (int i = 0; i < n; ++i) {
                 const glm::dvec3 d = directionFromCubeFace(face, (i + 0.5) / n, (j + 0.5) / n);
-                if (isCeilingDirection(map.box, d)) continue;
+                if (isMissingDirection(map.box, d)) continue;
                 // A texel whose difference stencil reaches onto the ceiling measures the
                 // extension too; leave those out with the corners.
                 const double step = 2.0 / n;
                 bool isNearCeiling = false;
                 for (const double ds : {-step, step}) {
                     isNearCeiling = isNearCeiling ||
-                        isCeilingDirection(map.box, directionFromCubeFace(face, (i + 0.5) / n + ds, (j + 0.5) / n)) ||
-                        isCeilingDirection(map.box, directionFromCubeFace(face, (i + 0.5) / n, (j + 0.5) / n + ds));
+                        isMissingDirection(map.box, directionFromCubeFace(face, (i + 0.5) / n + ds, (j + 0.5) / n)) ||
+                        isMissingDirection(map.box, directionFromCubeFace(face, (i + 0.5) / n, (j + 0.5) / n + ds));
                 }
                 bool isNearCorner = false;
                 for (const auto& corner : corners) isNearCorner = isNearCorner || glm::dot(d, corner) > cosExclusion;

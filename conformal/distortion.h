@@ -28,9 +28,10 @@ MapJacobian jacobianFromDifferences(const glm::dvec3& display, const glm::dvec3&
 /// neighbouring texels of the same face (central inside, one-sided on the face's border).
 std::vector<MapJacobian> cubeMapJacobians(const CubeMap& map);
 
-/// Statistics over the texels whose direction lies in Omega5 and more than
-/// `cornerExclusionDegrees` from every ceiling corner: fold-overs over all of them, K over
-/// those whose difference stencil (two texels each way) stays off the ceiling.
+/// Statistics over the texels whose direction lies in the display domain (Omega5 for the cabin)
+/// and more than `cornerExclusionDegrees` from every corner of its boundary (boundaryCorners):
+/// fold-overs over all of them, K over those whose difference stencil (two texels each way)
+/// stays off the missing walls.
 struct DistortionStatistics {
     double meanK = 0.0;
     double p99K = 0.0;

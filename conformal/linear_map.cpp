@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 
 #include <glm/geometric.hpp>
 
@@ -29,15 +30,28 @@ glm::dvec3 directionOf(double fromNadir, double azimuth) {
 
 }  // namespace
 
-LinearMap::LinearMap(const CaveBox& box) : mBox(box) { validateCaveBox(box); }
+LinearMap::LinearMap(const CaveBox& box) : mBox(box) {
+    validateCaveBox(box);
+    if (isFaceMissing(box, 3)) {
+        throw std::invalid_argument("linear map: it scales angles from the nadir, which needs the floor; this display "
+                                    "lacks it");
+    }
+}
 
 double LinearMap::edgeAngleFromNadir(double azimuth) const {
     const double cx = std::cos(azimuth);
     const double cz = std::sin(azimuth);
-    double reach = std::numeric_limits<double>::infinity();
-    // Horizontal distance from the centre to the ceiling rectangle's edge along the azimuth.
-    if (cx != 0.0) reach = std::min(reach, ((cx > 0.0 ? 0.5 : -0.5) * mBox.size.x - mBox.mapCentre.x) / cx);
-    if (cz != 0.0) reach = std::min(reach, ((cz > 0.0 ? 0.5 : -0.5) * mBox.size.z - mBox.mapCentre.z) / cz);
+    // Horizontal distance from the centre to the wall the azimuth points at, and that wall.
+    const double reachX = cx != 0.0 ? ((cx > 0.0 ? 0.5 : -0.5) * mBox.size.x - mBox.mapCentre.x) / cx
+                                    : std::numeric_limits<double>::infinity();
+    const double reachZ = cz != 0.0 ? ((cz > 0.0 ? 0.5 : -0.5) * mBox.size.z - mBox.mapCentre.z) / cz
+                                    : std::numeric_limits<double>::infinity();
+    const double reach = std::min(reachX, reachZ);
+    const int wall = reachX <= reachZ ? (cx > 0.0 ? 0 : 1) : (cz > 0.0 ? 4 : 5);
+    // Up the longitude from the nadir: the floor, that wall, then the ceiling. The first missing
+    // one starts the edge.
+    if (isFaceMissing(mBox, wall)) return std::atan2(reach, 0.5 * mBox.size.y + mBox.mapCentre.y);
+    if (!isFaceMissing(mBox, 2)) return std::numbers::pi;
     const double height = 0.5 * mBox.size.y - mBox.mapCentre.y;
     return std::numbers::pi - std::atan2(reach, height);
 }

@@ -9,8 +9,10 @@ namespace conformal {
 
 /// With theta the angle from the nadir and lambda the azimuth arg(d_x + i d_z) of a display
 /// direction (seen from the map centre), F keeps lambda and sets theta' = pi theta /
-/// thetaEdge(lambda), where thetaEdge is the angle from the nadir of the ceiling's edge at
-/// that azimuth. Ceiling directions continue the same formula past the zenith.
+/// thetaEdge(lambda), where thetaEdge is the angle from the nadir at which that longitude first
+/// leaves the display: the ceiling's edge for the cabin; toward a missing wall, the floor's edge
+/// below it. Missing directions continue the same formula past the zenith. Needs the floor
+/// (the constructor throws std::invalid_argument without it).
 class LinearMap final : public DirectionMap {
 public:
     explicit LinearMap(const CaveBox& box);
@@ -18,7 +20,7 @@ public:
     glm::dvec3 sceneFromDisplay(const glm::dvec3& display) const override;
     glm::dvec3 displayFromScene(const glm::dvec3& scene) const override;
 
-    /// Angle from the nadir (radians) of the ceiling edge at azimuth `azimuth`.
+    /// Angle from the nadir (radians) at which the longitude at `azimuth` leaves the display.
     double edgeAngleFromNadir(double azimuth) const;
 
 private:

@@ -16,7 +16,7 @@ using Complex = std::complex<double>;
 
 std::uint64_t latticeKey(const std::array<int, 3>& lattice, int sector) {
     return ((static_cast<std::uint64_t>(lattice[0]) * 65536 + static_cast<std::uint64_t>(lattice[1])) * 65536 +
-            static_cast<std::uint64_t>(lattice[2])) * 8 +
+            static_cast<std::uint64_t>(lattice[2])) * 16 +
            static_cast<std::uint64_t>(sector + 1);
 }
 
@@ -27,6 +27,13 @@ std::unordered_map<std::uint64_t, int> indexByLattice(const SphereMesh& mesh) {
         index.emplace(latticeKey(mesh.lattice[v], mesh.slitSector[v]), static_cast<int>(v));
     }
     return index;
+}
+
+/// The vertex at `lattice`: its single copy, or on the slit the copy of `sector`.
+std::unordered_map<std::uint64_t, int>::const_iterator findVertex(const std::unordered_map<std::uint64_t, int>& index,
+                                                                   const std::array<int, 3>& lattice, int sector) {
+    const auto single = index.find(latticeKey(lattice, -1));
+    return single != index.end() || sector < 0 ? single : index.find(latticeKey(lattice, sector));
 }
 
 }  // namespace
@@ -40,19 +47,18 @@ LatticeParents latticeParents(const SphereMesh& fine, const SphereMesh& coarse) 
     }
     const auto fineIndex = indexByLattice(fine);
     const auto coarseIndex = indexByLattice(coarse);
-    const int half = static_cast<int>(fine.gridLines[0].size() - 1) / 2;
-    const int top = static_cast<int>(fine.gridLines[1].size() - 1);
 
     LatticeParents parents;
     const std::size_t n = fine.mesh.positions.size();
     parents.fineIndex.assign(n, {-1, -1, -1, -1});
     parents.coarseIndex.assign(n, {-1, -1, -1, -1});
     parents.count.assign(n, 0);
-    // Records a vertex both meshes share as a parent of fine vertex v.
+    // Records a vertex both meshes share as a parent of fine vertex v; on the slit, the copy on
+    // v's side (its sector).
     auto addParent = [&](std::size_t v, const std::array<int, 3>& lattice, int sector) {
-        const auto f = fineIndex.find(latticeKey(lattice, sector));
+        const auto f = findVertex(fineIndex, lattice, sector);
         const std::array<int, 3> coarseLattice = {lattice[0] / 2, lattice[1] / 2, lattice[2] / 2};
-        const auto c = coarseIndex.find(latticeKey(coarseLattice, sector));
+        const auto c = findVertex(coarseIndex, coarseLattice, sector);
         if (f == fineIndex.end() || c == coarseIndex.end()) {
             throw std::invalid_argument("Richardson extrapolation: a shared vertex is missing");
         }
@@ -60,11 +66,26 @@ LatticeParents latticeParents(const SphereMesh& fine, const SphereMesh& coarse) 
         parents.fineIndex[v][k] = f->second;
         parents.coarseIndex[v][k] = c->second;
     };
-    // A ceiling vertex on a diagonal (but not a corner) exists once per sector.
-    auto isSlitPoint = [&](const std::array<int, 3>& lattice) {
-        const int dx = lattice[0] - half;
-        const int dz = lattice[2] - half;
-        return lattice[1] == top && std::abs(dx) == std::abs(dz) && std::abs(dx) != half;
+    // The slit run through a lattice point strictly between two of its lattice steps' ends.
+    auto slitStepAt = [&](const std::array<int, 3>& lattice) -> std::array<int, 3> {
+        for (const SlitSegment& run : fine.slit) {
+            int k = 0;
+            bool isKnown = false;
+            bool isOn = true;
+            for (int a = 0; a < 3 && isOn; ++a) {
+                const int offset = lattice[a] - run.from[a];
+                if (run.step[a] == 0) {
+                    isOn = offset == 0;
+                } else if (!isKnown) {
+                    k = offset * run.step[a];
+                    isKnown = true;
+                } else {
+                    isOn = offset * run.step[a] == k;
+                }
+            }
+            if (isOn && k > 0 && k < run.steps) return run.step;
+        }
+        throw std::invalid_argument("Richardson extrapolation: a slit vertex lies on no slit run");
     };
 
     for (std::size_t v = 0; v < n; ++v) {
@@ -74,17 +95,13 @@ LatticeParents latticeParents(const SphereMesh& fine, const SphereMesh& coarse) 
         if (isShared) {
             addParent(v, lattice, sector);
         } else if (sector >= 0) {
-            // On the slit: the two neighbours along the diagonal, on this copy's side.
-            const int sx = lattice[0] > half ? 1 : -1;
-            const int sz = lattice[2] > half ? 1 : -1;
-            const std::array<int, 3> inner = {lattice[0] - sx, lattice[1], lattice[2] - sz};
-            const std::array<int, 3> outer = {lattice[0] + sx, lattice[1], lattice[2] + sz};
-            addParent(v, inner, isSlitPoint(inner) ? sector : -1);
-            addParent(v, outer, isSlitPoint(outer) ? sector : -1);
+            // On the slit: the two neighbours along its run, on this copy's side.
+            const std::array<int, 3> step = slitStepAt(lattice);
+            addParent(v, {lattice[0] - step[0], lattice[1] - step[1], lattice[2] - step[2]}, sector);
+            addParent(v, {lattice[0] + step[0], lattice[1] + step[1], lattice[2] + step[2]}, sector);
         } else {
             // The neighbours on the odd grid lines: 2 along an edge, 4 in a cell.
-            const int ownSector =
-                lattice[1] == top ? ceilingSectorOf(lattice[0] - half, lattice[2] - half) : -1;
+            const int ownSector = fine.missingSector[v];
             for (int ox = -1; ox <= 1; ox += 2) {
                 for (int oy = -1; oy <= 1; oy += 2) {
                     for (int oz = -1; oz <= 1; oz += 2) {
@@ -98,7 +115,7 @@ LatticeParents latticeParents(const SphereMesh& fine, const SphereMesh& coarse) 
                                 isDuplicate = true;  // even axes contribute one offset only
                             }
                         }
-                        if (!isDuplicate) addParent(v, p, isSlitPoint(p) ? ownSector : -1);
+                        if (!isDuplicate) addParent(v, p, ownSector);
                     }
                 }
             }

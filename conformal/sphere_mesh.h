@@ -14,9 +14,16 @@ namespace conformal {
 
 /// Which part of the sphere of directions a mesh covers.
 enum class SphereDomain {
-    Scene,    ///< Omega6: the whole sphere cut open along the cross slit X (the ceiling's
-              ///< diagonals seen from the map centre); its boundary is the slit's two sides.
-    Display,  ///< Omega5: the sphere minus the closed spherical square of ceiling directions.
+    Scene,    ///< Omega6: the whole sphere cut open along the slit tree X inside the missing
+              ///< walls (see buildSphereMesh); its boundary is the slit's sides.
+    Display,  ///< Omega5: the sphere minus the closed missing walls' directions.
+};
+
+/// A straight run of the slit on the box's lattice: from + k step for k = 0..steps.
+struct SlitSegment {
+    std::array<int, 3> from{};
+    std::array<int, 3> step{};
+    int steps = 0;
 };
 
 struct SphereMeshSettings {
@@ -37,14 +44,29 @@ struct SphereMesh {
     TriangleMesh mesh;
     SphereDomain domain = SphereDomain::Scene;
     CaveBox box;
-    /// Vertices at the four ceiling corners (order of ceilingCornerDirections): the slit tips of
-    /// Omega6, the reflex corners of Omega5.
-    std::array<int, 4> cornerVertices{};
-    /// The vertex at the floor's centre (the nadir when the map centre is centred in x and z).
+    /// Vertices at the slit's tips (order of slitTipCorners): the tips of Omega6's slit, the
+    /// reflex corners of Omega5. For the cabin the four ceiling corners, in the order of
+    /// ceilingCornerDirections.
+    std::vector<int> cornerVertices;
+    /// The vertex at the floor's centre (the nadir when the map centre is centred in x and z);
+    /// without a floor, the centre of the first present face among front, right, left, back.
     int nadirVertex = -1;
-    /// For Omega6, the ceiling sector k (triangle zenith, corner k, corner k + 1) that owns each
-    /// copy of a vertex on the slit; -1 for every other vertex.
+    /// The missing walls less the slit fall into sectors, one per pair of tips that follow each
+    /// other along the boundary; sector k runs from tip k (index into cornerVertices) to tip
+    /// sectorTips[k][1]. For the cabin sector k is the ceiling triangle (zenith, corner k,
+    /// corner k + 1).
+    std::vector<std::array<int, 2>> sectorTips;
+    /// For Omega6, the sector that owns each copy of a vertex on the slit; -1 for every other
+    /// vertex.
     std::vector<int> slitSector;
+    /// The sector whose closure holds each vertex: slit copies their own, vertices inside the
+    /// missing walls or on their boundary (Omega5's boundary) the sector around them; -1 for the
+    /// tips and every vertex of the present walls' interior.
+    std::vector<int> missingSector;
+    /// The slit X as lattice runs: each missing face of the slit's tree contributes the
+    /// half-diagonals from its centre to its tip corners, each tree edge two runs from one face's
+    /// centre to the shared edge's midpoint and on to the other's.
+    std::vector<SlitSegment> slit;
     /// Per vertex, its grid-line indices (ix, iy, iz) on the box's lattice.
     std::vector<std::array<int, 3>> lattice;
     /// Grid lines along x, y, z in CAVE-space metres (box centred at the origin).
@@ -54,11 +76,14 @@ struct SphereMesh {
     std::array<std::vector<int>, 6> cellTriangles;
 };
 
-/// The ceiling sector of a ceiling point with x, z in units of the half width and half depth:
-/// k such that the point lies in the triangle (zenith, corner k, corner k + 1).
-int ceilingSectorOf(double x, double z);
-
-/// Builds the mesh of `domain` for `box`. Throws std::invalid_argument on bad settings.
+/// Builds the mesh of `domain` for `box`. The slit X follows a fixed rule: the missing faces'
+/// tree (breadth first over shared edges from the lowest-numbered missing face, pruned of
+/// leaves that hold no tip), each face's half-diagonals to its tip corners, and between faces
+/// of the tree the lines through their centres and the shared edge's midpoint. For the cabin it
+/// is the cross of the ceiling's diagonals; for the classic CAVE (ceiling and back missing) an
+/// H: the medial axis of the two faces unfolded into one rectangle. Faces that carry slit
+/// diagonals get one segment count on both of their axes, so the diagonals are mesh edges.
+/// Throws std::invalid_argument on bad settings or a box validateCaveBox refuses.
 SphereMesh buildSphereMesh(const CaveBox& box, SphereDomain domain,
                            const SphereMeshSettings& settings);
 

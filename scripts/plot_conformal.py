@@ -3,9 +3,9 @@
 
 usage: /usr/bin/python3 scripts/plot_conformal.py DATA_DIR OUT_DIR
 
-Each picture shows the five walls of the box unfolded around the floor (front above, back
+Each picture shows the box's present walls unfolded around the floor (front above, back
 below, left and right at the sides), as seen from inside, for the conformal map and for the
-linear baseline. Needs Debian's python3-numpy and python3-matplotlib; not used by CI.
+linear baseline; content from the missing walls is tinted orange. Needs Debian's python3-numpy and python3-matplotlib; not used by CI.
 """
 import sys
 
@@ -16,7 +16,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 WIDTH, HEIGHT, CHANNELS = 1024, 512, 9
-BOXES = {"cube": (2.4, 2.4, 2.4), "cabin": (2.95, 2.21, 2.95)}
+# name: (box size in metres, the walls it lacks)
+BOXES = {
+    "cube": ((2.4, 2.4, 2.4), ("ceiling",)),
+    "cabin": ((2.95, 2.21, 2.95), ("ceiling",)),
+    "cave4": ((2.4, 2.4, 2.4), ("ceiling", "back")),
+}
 PIXELS_PER_METRE = 160
 
 
@@ -25,8 +30,8 @@ def load(path):
     return data.reshape(HEIGHT, WIDTH, CHANNELS)
 
 
-def unfolded_directions(size):
-    """Display directions of every pixel of the unfolded walls, and a mask of the walls."""
+def unfolded_directions(size, missing):
+    """Display directions of every pixel of the unfolded present walls, and a mask of them."""
     w, h, d = size
     cols = int((h + w + h) * PIXELS_PER_METRE)
     rows = int((h + d + h) * PIXELS_PER_METRE)
@@ -47,7 +52,8 @@ def unfolded_directions(size):
     front = (a >= 0) & (a < 1) & (gy < h)
     place(front, (-w / 2 + a * w, h / 2 - gy / h * h, np.full_like(a, -d / 2)))
     back = (a >= 0) & (a < 1) & (gy >= h + d)
-    place(back, (-w / 2 + a * w, -h / 2 + (gy - h - d), np.full_like(a, d / 2)))
+    if "back" not in missing:
+        place(back, (-w / 2 + a * w, -h / 2 + (gy - h - d), np.full_like(a, d / 2)))
     left = (b >= 0) & (b < 1) & (gx < h)
     place(left, (np.full_like(a, -w / 2), h / 2 - gx, -d / 2 + b * d))
     right = (b >= 0) & (b < 1) & (gx >= h + w)
@@ -65,16 +71,32 @@ def sample(data, directions):
     return data[j, i]
 
 
-def checkerboard(scene, size):
-    """A checkerboard in longitude and Mercator latitude (a conformal chart, so its cells are
-    squares on the sphere); cells whose direction lies on the ceiling are tinted orange."""
+def on_missing_wall(scene, size, missing):
+    """Whether each scene direction (from the box centre) leaves the box through a missing wall."""
     w, h, d = size
+    half = np.array([w, h, d]) / 2
+    axes = {"ceiling": (1, 1.0), "back": (2, 1.0)}
+    result = np.zeros(scene.shape[:-1], dtype=bool)
+    for wall in missing:
+        axis, sign = axes[wall]
+        along = sign * scene[..., axis]
+        reach = half[axis] / np.maximum(along, 1e-9)
+        others = [a for a in range(3) if a != axis]
+        inside = np.ones_like(result)
+        for a in others:
+            inside &= np.abs(reach * scene[..., a]) <= half[a]
+        result |= (along > 0) & inside
+    return result
+
+
+def checkerboard(scene, size, missing):
+    """A checkerboard in longitude and Mercator latitude (a conformal chart, so its cells are
+    squares on the sphere); cells whose direction lies on a missing wall are tinted orange."""
     cell = np.pi / 12
     lon = np.arctan2(scene[..., 2], scene[..., 0])
     mercator = np.arctanh(np.clip(scene[..., 1], -0.999999, 0.999999))
     parity = (np.floor(lon / cell) + np.floor(mercator / cell)) % 2
-    reach = (h / 2) / np.maximum(scene[..., 1], 1e-9)
-    on_ceiling = (scene[..., 1] > 0) & (np.abs(reach * scene[..., 0]) <= w / 2) & (np.abs(reach * scene[..., 2]) <= d / 2)
+    on_ceiling = on_missing_wall(scene, size, missing)
     rgb = np.stack([parity] * 3, axis=-1) * 0.85 + 0.1
     tint = np.array([1.0, 0.55, 0.1])
     rgb[on_ceiling] = rgb[on_ceiling] * tint
@@ -86,19 +108,20 @@ def main():
         print(__doc__)
         return 2
     data_dir, out_dir = sys.argv[1], sys.argv[2]
-    for name, size in BOXES.items():
+    for name, (size, missing) in BOXES.items():
         data = load(f"{data_dir}/conformal_{name}.f32")
-        directions, inside = unfolded_directions(size)
+        directions, inside = unfolded_directions(size, missing)
         values = sample(data, np.nan_to_num(directions))
 
         fig, axes = plt.subplots(1, 2, figsize=(12, 6.2))
         for axis, title, first in ((axes[0], "conformal map F", 0), (axes[1], "linear baseline", 3)):
-            image = checkerboard(values[..., first:first + 3], size)
+            image = checkerboard(values[..., first:first + 3], size, missing)
             image[~inside] = 1.0
             axis.imshow(image, interpolation="lanczos")
             axis.set_title(title)
             axis.axis("off")
-        fig.suptitle(f"{name}: scene checkerboard (15° cells, ceiling content orange) on the unfolded walls")
+        lacking = " and ".join(missing)
+        fig.suptitle(f"{name}: scene checkerboard (15° cells, {lacking} content orange) on the unfolded walls")
         fig.tight_layout()
         fig.savefig(f"{out_dir}/conformal_checkerboard_{name}.png", dpi=110, bbox_inches="tight")
         plt.close(fig)

@@ -285,33 +285,51 @@ std::vector<CameraPose> posesAlong(const std::vector<glm::dvec3>& polyline, cons
 }
 
 CameraPose poseViewing(const std::vector<glm::dvec3>& polyline, const glm::dvec3& pointMm, double elevationDeg,
-                       const PathSettings& settings) {
-    if (!(elevationDeg > 0.0 && elevationDeg <= 90.0)) throw std::invalid_argument("elevation must be in (0, 90] degrees");
+                       const PathSettings& settings, double azimuthDeg) {
+    if (!(std::abs(azimuthDeg) <= 180.0)) throw std::invalid_argument("azimuth must be in [-180, 180] degrees");
+    if (!(elevationDeg > 0.0 && elevationDeg < 180.0)) throw std::invalid_argument("elevation must be in (0, 180) degrees");
     PathSettings fine = settings;
     fine.stepMm = 0.25;
     const std::vector<CameraPose> poses = posesAlong(polyline, fine);
-    // Seen at elevation e above the horizon ahead, the point lies e from the view direction.
+    // Seen at elevation e above the horizon ahead (past 90: over the head, behind), the point
+    // lies e from the view direction.
     const double wantedAngle = glm::radians(elevationDeg);
     const auto angleTo = [&](const CameraPose& pose) {
         const glm::dvec3 toPoint = pointMm - pose.positionMm;
         const double length = glm::length(toPoint);
         return length > 0.0 ? std::acos(std::clamp(glm::dot(toPoint / length, pose.forward), -1.0, 1.0)) : 0.0;
     };
-    // Walk back along the path from the pose nearest to the point: the point's angle from the
-    // view direction falls from about 90 degrees; stop where it reaches the wanted one. Poses
-    // elsewhere on a winding path may see the point at that angle too, but through walls.
+    // From the pose nearest to the point, where its angle from the view direction is about 90
+    // degrees, walk back along the path (the angle falls) or, for a point behind, on past it (the
+    // angle grows); stop where it reaches the wanted one. Poses elsewhere on a winding path may
+    // see the point at that angle too, but through walls.
     const auto nearest = std::min_element(poses.begin(), poses.end(), [&](const CameraPose& a, const CameraPose& b) {
         return glm::length(a.positionMm - pointMm) < glm::length(b.positionMm - pointMm);
     });
     auto chosen = nearest;
-    while (chosen != poses.begin() && angleTo(*chosen) > wantedAngle) --chosen;
-    if (chosen != nearest && std::abs(angleTo(*std::next(chosen)) - wantedAngle) < std::abs(angleTo(*chosen) - wantedAngle)) {
-        ++chosen;
+    if (angleTo(*nearest) >= wantedAngle) {
+        while (chosen != poses.begin() && angleTo(*chosen) > wantedAngle) --chosen;
+        if (chosen != nearest &&
+            std::abs(angleTo(*std::next(chosen)) - wantedAngle) < std::abs(angleTo(*chosen) - wantedAngle)) {
+            ++chosen;
+        }
+    } else {
+        while (std::next(chosen) != poses.end() && angleTo(*chosen) < wantedAngle) ++chosen;
+        if (chosen != nearest &&
+            std::abs(angleTo(*std::prev(chosen)) - wantedAngle) < std::abs(angleTo(*chosen) - wantedAngle)) {
+            --chosen;
+        }
     }
     CameraPose pose = *chosen;
     const glm::dvec3 toPoint = pointMm - pose.positionMm;
     const glm::dvec3 up = toPoint - glm::dot(toPoint, pose.forward) * pose.forward;
-    if (glm::length(up) > 1e-9) pose.up = glm::normalize(up);
+    if (glm::length(up) > 1e-9) {
+        // Up toward the point, then turned about the view direction by -azimuth, which puts the
+        // point azimuth degrees to the right of up (right = forward x up).
+        const glm::dvec3 toward = glm::normalize(up);
+        const double a = glm::radians(azimuthDeg);
+        pose.up = std::cos(a) * toward - std::sin(a) * glm::cross(pose.forward, toward);
+    }
     return pose;
 }
 
@@ -356,7 +374,8 @@ std::vector<CameraPose> posesFor(const PoseRequest& request) {
                                             " lists " + std::to_string(centres.size()) + " polyps");
             }
             const glm::dvec3 polyp = centres[static_cast<std::size_t>(request.polyp)];
-            return {poseViewing(nearestSegment(centreline, polyp), polyp, request.polypElevationDeg, settings)};
+            return {poseViewing(nearestSegment(centreline, polyp), polyp, request.polypElevationDeg, settings,
+                                request.polypAzimuthDeg)};
         }
         auto poses = posesAlongSegments(centreline, settings);
         if (request.maxFrames > 0 && static_cast<int>(poses.size()) > request.maxFrames) {

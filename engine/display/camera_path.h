@@ -68,12 +68,15 @@ const std::vector<glm::dvec3>& nearestSegment(const Centreline& centreline, cons
 std::vector<CameraPose> posesAlong(const std::vector<glm::dvec3>& polyline, const PathSettings& settings);
 
 /// The pose on `polyline` from which `pointMm` is seen ahead at `elevationDeg` above the
-/// horizon (90: straight overhead), looking along the path in `settings`'s direction, with up
-/// turned toward the point. At elevations above ~37 degrees the point lies on the ceiling of
-/// the Immersive Cabin, which only the conformal map brings onto the walls. Throws
-/// std::invalid_argument for an elevation outside (0, 90].
+/// horizon (90: straight overhead; past 90 over the head and behind the viewer), looking along
+/// the path in `settings`'s direction, with up turned toward the point. At elevations above
+/// ~37 degrees the point lies on the ceiling of the Immersive Cabin, past about 135 on the
+/// back wall that the 4-wall CAVE lacks; only the conformal map brings them onto the walls.
+/// Throws std::invalid_argument for an elevation outside (0, 180).
+/// `azimuthDeg` turns up about the view direction so that the point is seen that many degrees
+/// to the right of straight up (0: overhead; behind the viewer, off the display's mirror plane).
 CameraPose poseViewing(const std::vector<glm::dvec3>& polyline, const glm::dvec3& pointMm, double elevationDeg,
-                       const PathSettings& settings);
+                       const PathSettings& settings, double azimuthDeg = 0.0);
 
 /// The polyp centres ("polyps"[i]["centre_mm"]) of a phantom's JSON ground truth, in volume
 /// millimetres. Throws std::runtime_error naming the file for a missing or malformed list.
@@ -91,6 +94,7 @@ struct PoseRequest {
     int maxFrames = 0;                 // 0: every pose of the path
     int polyp = -1;                    // >= 0: the pose viewing this polyp of the path's ground truth
     double polypElevationDeg = 60.0;
+    double polypAzimuthDeg = 0.0;
     std::optional<glm::dvec3> positionMm;
     std::optional<glm::dvec3> lookAtMm;
     glm::dvec3 up{0.0, 0.0, 1.0};

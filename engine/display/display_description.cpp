@@ -119,13 +119,34 @@ void validateDisplay(const Display& display) {
         invalid(display, "map centre (map_centre_m) must lie strictly inside the box");
     }
     if (display.map != conformal::MapKind::None) {
-        const bool hasCeiling = seen.count(WallName::Ceiling) > 0;
-        if (hasCeiling) invalid(display, "a bending map is for a display without a ceiling; use map none");
-        if (seen.size() < 5) {
-            invalid(display, "a display missing more than the ceiling is not yet supported by the map (it "
-                             "moves only the ceiling's view onto the walls); use map none to render its walls unbent");
+        if (seen.size() == 6) invalid(display, "a bending map is for a display that lacks a wall; use map none");
+        const conformal::CaveBox box = caveBoxOf(display);
+        try {
+            conformal::validateCaveBox(box);
+        } catch (const std::invalid_argument& error) {
+            invalid(display, std::string("the map cannot be built for its walls (") + error.what() +
+                                 "); use map none to render its walls unbent");
+        }
+        if (display.map == conformal::MapKind::Linear && conformal::isFaceMissing(box, 3)) {
+            invalid(display, "the linear map scales angles from the nadir and needs the floor; use map conformal");
         }
     }
+}
+
+conformal::CaveBox caveBoxOf(const Display& display) {
+    conformal::CaveBox box;
+    box.size = display.boxSizeM;
+    box.mapCentre = display.mapCentreM;
+    // Box faces in Vulkan order: right (+x), left, ceiling (+y), floor, back (+z), front.
+    const WallName faceWalls[conformal::kBoxFaceCount] = {WallName::Right, WallName::Left, WallName::Ceiling,
+                                                          WallName::Floor, WallName::Back, WallName::Front};
+    box.missingFaces = 0;
+    for (int face = 0; face < conformal::kBoxFaceCount; ++face) {
+        const bool isPresent = std::any_of(display.walls.begin(), display.walls.end(),
+                                           [&](const DisplayWall& wall) { return wall.name == faceWalls[face]; });
+        if (!isPresent) box.missingFaces |= conformal::faceBit(face);
+    }
+    return box;
 }
 
 WallRectangle wallRectangle(const Display& display, WallName wall) {

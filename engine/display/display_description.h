@@ -48,15 +48,18 @@ struct Display {
 /// map: what the cabin would show with every wall), "cave6" (a 2.4 m cube, all six walls at
 /// 1024^2, no map), "cave4" (front, left, right, floor of a 2.4 m cube: two walls missing),
 /// "forward" (one 1400x1400 screen filling 90 degrees straight ahead, no map: the usual virtual
-/// endoscope).
+/// endoscope). ic5 and cave4 bend their rays through the conformal map.
 std::vector<std::string> displayPresetNames();
 Display displayPreset(const std::string& name);
 
 /// Throws std::invalid_argument naming the field for a display that cannot be rendered: sizes,
 /// pixel counts, a wall listed twice, a head or a map centre outside the box, a map that the
-/// walls do not support (a bending map needs exactly the five walls without the ceiling; cave4
-/// is refused with a message saying that two missing walls are not yet supported).
+/// walls do not support (a bending map needs a missing wall, and present walls whose directions
+/// form a disc: conformal::validateCaveBox says why not; the linear map also needs the floor).
 void validateDisplay(const Display& display);
+
+/// The box the map is built for: the display's size and map centre, and the walls it lacks.
+conformal::CaveBox caveBoxOf(const Display& display);
 
 /// The rectangle of `wall` in CAVE metres, as ViewRays wants it: top-left corner, full width
 /// (left to right) and full height (top to bottom) as seen from inside the box. Walls look

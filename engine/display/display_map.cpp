@@ -52,8 +52,7 @@ conformal::BakeSettings bakeSettingsFor(const Display& display, int size) {
     validateDisplay(display);
     conformal::BakeSettings settings;
     settings.size = size;
-    settings.box.size = display.boxSizeM;
-    settings.box.mapCentre = display.mapCentreM;
+    settings.box = caveBoxOf(display);
     settings.kind = display.map;
     return settings;
 }
@@ -83,6 +82,11 @@ conformal::CubeMap cubeMapFor(const Display& display, int size, const std::strin
     if (!isSameLength(map.box.mapCentre, settings.box.mapCentre)) {
         throw std::invalid_argument(file + " was baked for map centre " + pointText(map.box.mapCentre) + ", " +
                                     theDisplay + " has its map centre at " + pointText(settings.box.mapCentre));
+    }
+    if (map.box.missingFaces != settings.box.missingFaces) {
+        throw std::invalid_argument(file + " was baked for a display lacking " +
+                                    conformal::boxFaceNames(map.box.missingFaces) + ", " + theDisplay + " lacks " +
+                                    conformal::boxFaceNames(settings.box.missingFaces));
     }
     return map;
 }

@@ -187,6 +187,44 @@ TEST(DisplayRender, ConformalDisplayWritesTheBeforeAfterSheet) {
     EXPECT_NE(run.err.find("map: conformal, 32^2 per face"), std::string::npos) << run.err;
 }
 
+TEST(DisplayRender, FourWallCaveRendersThroughItsMapAndRefusesTheCabinsBake) {
+    // The classic CAVE (no ceiling, no back) at cave4's box, small walls: every wall for both
+    // eyes through its conformal map; the cabin's bake is not its map.
+    const SmallScene scene;
+    const fs::path display = tmp("display/tiny_cave4.json");
+    std::ofstream(display) << R"({"name": "tiny-cave4", "box_size_m": [2.4, 2.4, 2.4], "map": "conformal", "walls": [
+        {"name": "front", "width": 32, "height": 32}, {"name": "left", "width": 32, "height": 32},
+        {"name": "right", "width": 32, "height": 32}, {"name": "floor", "width": 32, "height": 32}]})";
+    const std::string cache = "CVC_CACHE_DIR=" + tmp("display/cache").string();
+    const fs::path out = tmp("display/frames_cave4");
+    fs::remove_all(out);
+    const std::string render = "render " + scene.volume.string() + " --display " + display.string() +
+                               " --position 15.5,15.5,8 --look-at 15.5,15.5,20 --up 0,1,0 --force -o " + out.string();
+    const auto run = runCvc(render + " --map-size 32", cache);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    EXPECT_NE(run.err.find("map: conformal, 32^2 per face"), std::string::npos) << run.err;
+    for (const char* eye : {"left", "right"}) {
+        for (const char* wall : {"front", "left", "right", "floor"}) {
+            EXPECT_TRUE(fs::exists(out / "frame_0000" / eye / (std::string(wall) + ".png"))) << eye << " " << wall;
+        }
+        EXPECT_FALSE(fs::exists(out / "frame_0000" / eye / "back.png"));
+    }
+    const fs::path cabinMap = tmp("display/cabin_for_cave4.cvcm");
+    ASSERT_EQ(runCvc("bake --box 2.4 2.4 2.4 --size 16 --mesh-resolution 16 --force -o " + cabinMap.string(), cache).exitCode, 0);
+    const fs::path cave4Map = tmp("display/cave4.cvcm");
+    const auto bake = runCvc("bake --display " + display.string() + " --size 16 --mesh-resolution 16 --force -o " +
+                             cave4Map.string(), cache);
+    ASSERT_EQ(bake.exitCode, 0) << bake.err;
+    EXPECT_NE(bake.out.find("lacking ceiling, back"), std::string::npos) << bake.out;
+    const auto wrong = runCvc(render + " --cube-map " + cabinMap.string(), cache);
+    EXPECT_NE(wrong.exitCode, 0);
+    EXPECT_NE(wrong.err.find("was baked for a display lacking ceiling, the display 'tiny-cave4' lacks ceiling, back"),
+              std::string::npos)
+        << wrong.err;
+    const auto right = runCvc(render + " --cube-map " + cave4Map.string(), cache);
+    EXPECT_EQ(right.exitCode, 0) << right.err;
+}
+
 TEST(DisplayRender, BakedCubeMapOfTheDisplayIsUsedAndRecorded) {
     const SmallScene scene;
     // A display of its own with the map centred below the box centre: `cvc bake --display`
@@ -231,11 +269,16 @@ TEST(DisplayRender, BakedCubeMapOfTheDisplayIsUsedAndRecorded) {
 
 TEST(DisplayRender, RefusesWhatItCannotDo) {
     const SmallScene scene;
-    const auto cave4 = runCvc("render " + scene.volume.string() + " --display cave4 --position 15,15,8 --look-at 15,15,20 -o " +
-                              tmp("display/cave4").string());
-    EXPECT_NE(cave4.exitCode, 0);
-    EXPECT_EQ(testing_support::lineCount(cave4.err), 1) << cave4.err;
-    EXPECT_NE(cave4.err.find("not yet supported"), std::string::npos) << cave4.err;
+    // Two opposite walls are not a disc: no map can open the rest onto them.
+    const auto pairFile = tmp("display/pair.json");
+    std::filesystem::create_directories(pairFile.parent_path());
+    std::ofstream(pairFile) << R"({"name": "pair", "map": "conformal", "walls": [)"
+                               R"({"name": "left", "width": 32, "height": 32}, {"name": "right", "width": 32, "height": 32}]})";
+    const auto pair = runCvc("render " + scene.volume.string() + " --display " + pairFile.string() +
+                             " --position 15,15,8 --look-at 15,15,20 --up 0,1,0 -o " + tmp("display/pair").string());
+    EXPECT_NE(pair.exitCode, 0);
+    EXPECT_EQ(testing_support::lineCount(pair.err), 1) << pair.err;
+    EXPECT_NE(pair.err.find("are in pieces"), std::string::npos) << pair.err;
 
     const auto noPose = runCvc("render " + scene.volume.string() + " --display cave6 -o " + tmp("display/nopose").string());
     EXPECT_NE(noPose.exitCode, 0);

@@ -4,7 +4,9 @@
 ///   conformal_measure accuracy N RES REF_RES BOX   the baked map against the estimated true F
 ///   conformal_measure timing N RES                 map + bake time, cached load time
 ///   conformal_measure images RES OUT_DIR           equirectangular data for the pictures
-/// BOX is "cube" or "cabin".
+///   conformal_measure display N RES REF_RES BOX    any display: distortion, G o F, convergence
+/// BOX is "cube" or "cabin" (both lacking the ceiling) or "cave4" (the 2.4 m cube lacking the
+/// ceiling and the back).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -47,7 +49,12 @@ double percentile(std::vector<double> values, double fraction) {
     return values[k];
 }
 
-CaveBox boxNamed(const std::string& name) { return name == "cabin" ? immersiveCabinBox() : CaveBox{}; }
+CaveBox boxNamed(const std::string& name) {
+    if (name == "cabin") return immersiveCabinBox();
+    CaveBox box;
+    if (name == "cave4") box.missingFaces = faceBit(kCeilingFace) | faceBit(4);
+    return box;
+}
 
 struct VertexError {
     double mean = 0.0;
@@ -105,7 +112,7 @@ class ReferenceMap final : public DirectionMap {
 public:
     explicit ReferenceMap(const ConformalMap& fine) : mFine(fine) {}
     glm::dvec3 sceneFromDisplay(const glm::dvec3& d) const override {
-        if (isCeilingDirection(mFine.settings().box, d)) return mFine.sceneFromDisplay(d);
+        if (isMissingDirection(mFine.settings().box, d)) return mFine.sceneFromDisplay(d);
         return directionFromSceneDiskClosedForm(mFine.settings().box, mFine.diskFromDisplay(d));
     }
     glm::dvec3 displayFromScene(const glm::dvec3& s) const override { return mFine.displayFromScene(s); }
@@ -149,7 +156,7 @@ int runAccuracy(int size, int resolution, int referenceResolution, const std::st
     std::vector<double> inverseError;
     for (int k = 0; k < 400000; ++k) {
         const glm::dvec3 d = glm::normalize(glm::dvec3(normal(random), normal(random), normal(random)));
-        if (isCeilingDirection(box, d)) continue;
+        if (isMissingDirection(box, d)) continue;
         const glm::dvec3 exact = reference.sceneFromDisplay(d);
         const double nearestSingular = [&] {
             double a = 10.0;
@@ -199,8 +206,71 @@ int runAccuracy(int size, int resolution, int referenceResolution, const std::st
     std::printf("\nflow: scene %d Newton steps (residual %.1e), display %d (residual %.1e); "
                 "fourth corner: scene %.2e, display %.2e from -i; nadir: scene %.1e, display %.1e\n",
                 r.scene.flow.iterations, r.scene.flow.maxCurvatureError, r.display.flow.iterations,
-                r.display.flow.maxCurvatureError, std::abs(r.sceneCorner3 - Complex(0, -1)),
-                std::abs(r.displayCorner3 - Complex(0, -1)), std::abs(r.sceneNadir), std::abs(r.displayNadir));
+                r.display.flow.maxCurvatureError, std::abs(r.sceneTips[3] - Complex(0, -1)),
+                std::abs(r.displayTips[3] - Complex(0, -1)), std::abs(r.sceneNadir), std::abs(r.displayNadir));
+    return 0;
+}
+
+/// For a display without a closed form: the baked map's distortion, G o F, and the map against
+/// one built on a finer mesh (its convergence), away from the boundary's corners.
+int runDisplay(int size, int resolution, int referenceResolution, const std::string& boxName) {
+    const CaveBox box = boxNamed(boxName);
+    ConformalMapSettings settings;
+    settings.box = box;
+    settings.mesh.resolution = resolution;
+    const auto start = std::chrono::steady_clock::now();
+    const ConformalMap map(settings);
+    const double mapTime = seconds(start);
+    settings.mesh.resolution = referenceResolution;
+    const ConformalMap fine(settings);
+    const auto bakeStart = std::chrono::steady_clock::now();
+    const CubeMap baked = bakeCubeMap(map, box, MapKind::Conformal, size);
+    const double bakeTime = seconds(bakeStart);
+    std::printf("box %s lacking %s: map res %d built in %.2f s, %d^2 bake in %.2f s; reference res %d\n",
+                boxName.c_str(), boxFaceNames(box.missingFaces).c_str(), resolution, mapTime, size, bakeTime,
+                referenceResolution);
+    const auto& r = map.report();
+    std::printf("flow residuals: scene %.1e, display %.1e; alignment sector %d; tips' images differ by up to %.3f "
+                "degrees on the disk\n",
+                r.scene.flow.maxCurvatureError, r.display.flow.maxCurvatureError, r.alignmentSector,
+                r.tipMismatchDegrees);
+    std::vector<glm::dvec3> corners;
+    for (const int c : boundaryCorners(box)) corners.push_back(boxCornerDirection(box, c));
+    std::mt19937 random(11);
+    std::normal_distribution<double> normal;
+    std::vector<double> inverse, convergence, baked3;
+    for (int k = 0; k < 200000; ++k) {
+        const glm::dvec3 d = glm::normalize(glm::dvec3(normal(random), normal(random), normal(random)));
+        if (isMissingDirection(box, d)) continue;
+        double nearest = 10.0;
+        for (const auto& c : corners) nearest = std::min(nearest, angleBetween(d, c));
+        if (nearest < 3.0 / kDegrees) continue;
+        const glm::dvec3 scene = map.sceneFromDisplay(d);
+        inverse.push_back(angleBetween(map.displayFromScene(scene), d));
+        convergence.push_back(angleBetween(fine.sceneFromDisplay(d), scene));
+        baked3.push_back(angleBetween(glm::normalize(glm::dvec3(sampleCubeMapBilinear(baked, d))), scene));
+    }
+    auto row = [](const char* name, const std::vector<double>& e) {
+        std::printf("| %s | %zu | %.2e | %.2e | %.2e |\n", name, e.size(), percentile(e, 0.5) * kDegrees,
+                    percentile(e, 0.99) * kDegrees, percentile(e, 1.0) * kDegrees);
+    };
+    std::printf("\n| angle (degrees), > 3 deg from the boundary's corners | directions | median | p99 | max |\n"
+                "|---|---|---|---|---|\n");
+    row("G o F - identity (map itself)", inverse);
+    row("map vs the map at the reference resolution", convergence);
+    row("baked map, bilinear, vs the map", baked3);
+    std::printf("\n| K = sigma_max / sigma_min | texels | mean K - 1 | p99 K - 1 | max K | folded texels |\n");
+    std::printf("|---|---|---|---|---|---|\n");
+    auto krow = [](const std::string& name, const DistortionStatistics& s) {
+        std::printf("| %s | %ld | %.2e | %.2e | %.3f | %ld |\n", name.c_str(), s.texelCount, s.meanK - 1.0,
+                    s.p99K - 1.0, s.maxK, s.foldedTexels);
+    };
+    for (const double exclusion : {1.0, 3.0, 5.0}) {
+        krow("conformal, " + std::to_string(static_cast<int>(exclusion)) + " deg around corners left out",
+             distortionStatistics(baked, exclusion));
+    }
+    const CubeMap linear = bakeCubeMap(LinearMap(box), box, MapKind::Linear, size);
+    krow("linear baseline, 1 deg left out", distortionStatistics(linear, 1.0));
     return 0;
 }
 
@@ -228,7 +298,7 @@ int runTiming(int size, int resolution) {
 
 int runImages(int resolution, const std::string& outDir) {
     std::filesystem::create_directories(outDir);
-    for (const std::string boxName : {"cube", "cabin"}) {
+    for (const std::string boxName : {"cube", "cabin", "cave4"}) {
         const CaveBox box = boxNamed(boxName);
         ConformalMapSettings settings;
         settings.box = box;
@@ -258,7 +328,7 @@ int runImages(int resolution, const std::string& outDir) {
                 const float values[9] = {float(s.x), float(s.y), float(s.z), float(l.x), float(l.y), float(l.z),
                                          float(jacobians[texel].quasiConformal),
                                          float(linearJacobians[texel].quasiConformal),
-                                         isCeilingDirection(box, d) ? 1.0f : 0.0f};
+                                         isMissingDirection(box, d) ? 1.0f : 0.0f};
                 out.write(reinterpret_cast<const char*>(values), sizeof(values));
             }
         }
@@ -280,6 +350,9 @@ int main(int argc, char** argv) {
         if (mode == "accuracy" && argc == 6) {
             return runAccuracy(std::atoi(argv[2]), std::atoi(argv[3]), std::atoi(argv[4]), argv[5]);
         }
+        if (mode == "display" && argc == 6) {
+            return runDisplay(std::atoi(argv[2]), std::atoi(argv[3]), std::atoi(argv[4]), argv[5]);
+        }
         if (mode == "timing" && argc == 4) return runTiming(std::atoi(argv[2]), std::atoi(argv[3]));
         if (mode == "images" && argc == 4) return runImages(std::atoi(argv[2]), argv[3]);
     } catch (const std::exception& e) {
@@ -288,6 +361,6 @@ int main(int argc, char** argv) {
     }
     std::fprintf(stderr,
                  "usage: conformal_measure phi6 RES... | accuracy N RES REF_RES cube|cabin | timing N RES | "
-                 "images RES OUT_DIR\n");
+                 "images RES OUT_DIR | display N RES REF_RES cube|cabin|cave4\n");
     return 2;
 }

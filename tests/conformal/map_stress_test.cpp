@@ -111,7 +111,7 @@ std::vector<glm::dvec3> testDirections(const CaveBox& box, int count, unsigned s
     while (static_cast<int>(directions.size()) < count) {
         const glm::dvec3 d = glm::normalize(glm::dvec3(normal(random), normal(random), normal(random)));
         if (angleToSingularPoints(box, d) < 0.05) continue;
-        if (isDisplay && isCeilingDirection(box, d)) continue;
+        if (isDisplay && isMissingDirection(box, d)) continue;
         directions.push_back(d);
     }
     return directions;
@@ -326,12 +326,13 @@ TEST(MapStress, BoxesFromACubeToFourToOne) {
             const CaveBox& box = map.settings().box;
             EXPECT_LT(map.report().scene.flow.maxCurvatureError, 1e-10) << c.name;
             EXPECT_LT(map.report().display.flow.maxCurvatureError, 1e-10) << c.name;
-            // Corners 0, 1, 2 are aligned to fixed points, so F keeps them; corner 3 only for
-            // square ceilings (docs/conformal.md): its mismatch is reported, not asserted.
+            // The alignment sector's two corners (2 and 3, the ceiling's front edge) go to fixed
+            // points, so F keeps them; corners 0 and 1 only for square ceilings
+            // (docs/conformal.md): their mismatch is reported, not asserted.
             const auto corners = ceilingCornerDirections(box);
-            for (int k = 0; k < 3; ++k) EXPECT_LT(angleBetween(map.sceneFromDisplay(corners[k]), corners[k]), 1e-8) << c.name;
-            std::cout << c.name << ": corner 3 scene " << std::abs(map.report().sceneCorner3 - Complex(0, -1)) << ", display "
-                      << std::abs(map.report().displayCorner3 - Complex(0, -1)) << " from -i\n";
+            for (int k = 2; k < 4; ++k) EXPECT_LT(angleBetween(map.sceneFromDisplay(corners[k]), corners[k]), 1e-8) << c.name;
+            std::cout << c.name << ": corners 0 and 1 differ between the disks by up to "
+                      << map.report().tipMismatchDegrees << " degrees\n";
             std::vector<double> errors;
             for (const glm::dvec3& d : testDirections(box, 1500, 13, true)) {
                 const glm::dvec3 scene = map.sceneFromDisplay(d);
@@ -434,7 +435,7 @@ TEST(MapStress, SeamsCornersCeilingEdgeNadirAndZenith) {
             ASSERT_TRUE(isFiniteUnit(scene)) << "F(" << d.x << ", " << d.y << ", " << d.z << ")";
             ASSERT_TRUE(isFiniteUnit(display)) << "G(" << d.x << ", " << d.y << ", " << d.z << ")";
             // G's values lie in the closed display domain: never inside the ceiling.
-            if (isCeilingDirection(box, display)) {
+            if (isMissingDirection(box, display)) {
                 double toEdge = 10.0;
                 for (int k = 0; k < 4; ++k) {
                     const auto corners = ceilingCornerDirections(box);
@@ -443,7 +444,7 @@ TEST(MapStress, SeamsCornersCeilingEdgeNadirAndZenith) {
                 }
                 EXPECT_LT(toEdge, 1e-6) << "G(" << d.x << ", " << d.y << ", " << d.z << ") is inside the ceiling";
             }
-            const bool isInsideOmega5 = !isCeilingDirection(box, d);
+            const bool isInsideOmega5 = !isMissingDirection(box, d);
             const double singular = angleToSingularPoints(box, d);
             if (isInsideOmega5 && singular > 0.05) {
                 EXPECT_LT(angleBetween(map->displayFromScene(scene), d), 1e-2)
@@ -455,7 +456,7 @@ TEST(MapStress, SeamsCornersCeilingEdgeNadirAndZenith) {
             for (int trial = 0; trial < 4; ++trial) {
                 const glm::dvec3 offset = glm::normalize(glm::dvec3(normal(random), normal(random), normal(random)));
                 const glm::dvec3 near = glm::normalize(d + 1e-8 * offset);
-                if (isInsideOmega5 && !isCeilingDirection(box, near)) {
+                if (isInsideOmega5 && !isMissingDirection(box, near)) {
                     EXPECT_LT(angleBetween(map->sceneFromDisplay(near), scene), 1e-3)
                         << "F jumps at (" << d.x << ", " << d.y << ", " << d.z << ")";
                 }

@@ -62,7 +62,7 @@ TEST(SphereMesh, LocatesEveryDirectionInItsTriangle) {
                              location.barycentric.z * scene.mesh.positions[tri[2]];
         EXPECT_NEAR(glm::length(glm::cross(glm::normalize(p), d)), 0.0, 1e-12);
         const MeshLocation inDisplay = locateDirection(display, d);
-        EXPECT_EQ(inDisplay.triangle < 0, isCeilingDirection(CaveBox{}, d));
+        EXPECT_EQ(inDisplay.triangle < 0, isMissingDirection(CaveBox{}, d));
     }
 }
 

@@ -26,4 +26,22 @@ inline const ConformalMap& cabinMap() {
     return map;
 }
 
+/// The classic 4-wall CAVE: the 2.4 m cube lacking the ceiling and the back (+z).
+inline CaveBox cave4Box() {
+    CaveBox box;
+    box.missingFaces = faceBit(kCeilingFace) | faceBit(4);
+    return box;
+}
+
+/// The conformal map of cave4 at the cube's resolution.
+inline const ConformalMap& cave4Map() {
+    static const ConformalMap map([] {
+        ConformalMapSettings settings;
+        settings.box = cave4Box();
+        settings.mesh.resolution = 64;
+        return settings;
+    }());
+    return map;
+}
+
 }  // namespace conformal::testing

@@ -98,6 +98,28 @@ TEST(CameraPath, PoseViewingAPointSeesItAtTheAskedElevation) {
         EXPECT_NEAR(glm::dot(pose.forward, glm::dvec3(0, 0, 1)), 1.0, 1e-9);  // still looking along the path
     }
     EXPECT_THROW(engine::poseViewing(line, polyp, 0.0, settings), std::invalid_argument);
+    EXPECT_THROW(engine::poseViewing(line, polyp, 180.0, settings), std::invalid_argument);
+}
+
+TEST(CameraPath, PoseViewingAPointBehindAndToTheSideSeesItThere) {
+    const std::vector<glm::dvec3> line = {{0, 0, 0}, {0, 0, 100}};
+    const glm::dvec3 polyp(11.0, 0.0, 50.0);
+    engine::PathSettings settings;
+    for (const double elevation : {120.0, 150.0}) {
+        for (const double azimuth : {0.0, 45.0, -30.0}) {
+            const auto pose = engine::poseViewing(line, polyp, elevation, settings, azimuth);
+            const glm::dvec3 toPolyp = glm::normalize(polyp - pose.positionMm);
+            // Past 90 degrees the point is behind: the pose is past it along the path.
+            EXPECT_NEAR(glm::degrees(std::acos(glm::dot(toPolyp, pose.forward))), elevation, 0.5);
+            EXPECT_GT(pose.positionMm.z, polyp.z);
+            // Around the view axis it sits `azimuth` degrees right of up (right = forward x up).
+            const glm::dvec3 across = glm::normalize(toPolyp - glm::dot(toPolyp, pose.forward) * pose.forward);
+            const glm::dvec3 right = glm::cross(pose.forward, pose.up);
+            EXPECT_NEAR(glm::degrees(std::atan2(glm::dot(across, right), glm::dot(across, pose.up))), azimuth, 1e-6);
+            EXPECT_NEAR(glm::dot(pose.forward, pose.up), 0.0, 1e-9);
+        }
+    }
+    EXPECT_THROW(engine::poseViewing(line, polyp, 150.0, settings, 200.0), std::invalid_argument);
 }
 
 TEST(CameraPath, ReadsTextAndPhantomJsonAndRejectsBadFiles) {

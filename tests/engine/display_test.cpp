@@ -61,15 +61,29 @@ TEST(DisplayGeometry, WallsFaceTheViewerAndUnfoldAsACross) {
 TEST(DisplayGeometry, PresetsValidateOrSayWhy) {
     EXPECT_NO_THROW(engine::validateDisplay(engine::displayPreset("ic5")));
     EXPECT_NO_THROW(engine::validateDisplay(engine::displayPreset("cave6")));
-    try {
-        engine::validateDisplay(engine::displayPreset("cave4"));
-        FAIL() << "cave4 with a map should be refused";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("not yet supported"), std::string::npos) << e.what();
-    }
+    // cave4 lacks the ceiling and the back: the map opens both onto its four walls.
+    EXPECT_NO_THROW(engine::validateDisplay(engine::displayPreset("cave4")));
+    EXPECT_EQ(engine::caveBoxOf(engine::displayPreset("cave4")).missingFaces,
+              conformal::faceBit(conformal::kCeilingFace) | conformal::faceBit(4));
     engine::Display cave4 = engine::displayPreset("cave4");
     cave4.map = conformal::MapKind::None;
     EXPECT_NO_THROW(engine::validateDisplay(cave4));
+    // Two opposite walls are not a disc: refused with the reason, naming the way out.
+    engine::Display twoWalls = engine::displayPreset("cave4");
+    twoWalls.walls = {{WallName::Left, 64, 64}, {WallName::Right, 64, 64}};
+    try {
+        engine::validateDisplay(twoWalls);
+        FAIL() << "two opposite walls with a map should be refused";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("are in pieces"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("use map none"), std::string::npos) << e.what();
+    }
+    engine::Display noFloor = engine::displayPreset("cave4");
+    noFloor.walls.pop_back();
+    noFloor.map = conformal::MapKind::Linear;
+    EXPECT_THROW(engine::validateDisplay(noFloor), std::invalid_argument);
+    noFloor.map = conformal::MapKind::Conformal;
+    EXPECT_NO_THROW(engine::validateDisplay(noFloor));
     EXPECT_THROW(engine::displayPreset("ic7"), std::invalid_argument);
 
     engine::Display bad = engine::displayPreset("ic5");

@@ -314,4 +314,53 @@ TEST_F(WarpedWalls, ConformalMapKeepsAnglesLinearMapDoesNot) {
     }
 }
 
+TEST_F(WarpedWalls, Cave4ThroughTheMapShowsWhatIsBehindOnItsWallsAndKeepsAngles) {
+    // The classic 4-wall CAVE lacks the ceiling and the back: the map opens both onto the front,
+    // side walls and floor.
+    conformal::BakeSettings bake;
+    bake.box.size = glm::dvec3(2.4);
+    bake.box.missingFaces = conformal::faceBit(conformal::kCeilingFace) | conformal::faceBit(4);
+    bake.size = 192;
+    bake.mesh.resolution = 48;
+    const conformal::CubeMap map = conformal::bakeCubeMap(bake);
+    SphericalRoom room(context());
+    room.raycaster.setCubeMap(map.size, map.rgba);
+    engine::Display display = engine::displayPreset("cave4");
+    for (auto& wall : display.walls) wall.width = wall.height = 96;
+    const auto pose = poseAt(SphericalRoom::spec().centreMm);
+    engine::RenderSettings settings = roomSettings();
+    settings.stepVoxels = 0.25;
+    // Scene directions seen on the walls, from the hits about the map centre.
+    double nearestBehind = 10.0;
+    std::vector<double> ks;
+    for (const engine::Eye eye : {engine::Eye::Left, engine::Eye::Right, engine::Eye::Centre}) {
+        for (const auto& wall : display.walls) {
+            const auto view = engine::wallView(display, wall.name, eye, pose, engine::WarpMode::Chord);
+            const auto image = room.raycaster.render(view.rays, settings, view.warp);
+            ASSERT_EQ(image.width, 96);
+            int hits = 0;
+            for (std::size_t i = 0; i < image.hitMm.size(); i += 4) {
+                const glm::dvec3 hit(image.hitMm[i], image.hitMm[i + 1], image.hitMm[i + 2]);
+                if (!(std::isfinite(hit.x) && glm::length(hit - SphericalRoom::spec().centreMm) > 80.0)) continue;
+                ++hits;
+                const glm::dvec3 scene = glm::normalize(hit - view.warp.mapCentreMm);
+                nearestBehind = std::min(nearestBehind, std::acos(std::clamp(glm::dot(scene, -pose.forward), -1.0, 1.0)));
+            }
+            // Every pixel of every wall, for both eyes, ends on the room's sphere.
+            EXPECT_EQ(hits, 96 * 96) << engine::wallNameText(wall.name) << " " << engine::eyeText(eye);
+            if (eye == engine::Eye::Centre) {
+                const auto wallKs = distortionOf(view, image, 3, 5);
+                ks.insert(ks.end(), wallKs.begin(), wallKs.end());
+            }
+        }
+    }
+    // Straight behind the viewer (the back wall's centre, which cave4 lacks) is on a wall.
+    EXPECT_LT(glm::degrees(nearestBehind), 3.0);
+    const double median = percentile(ks, 0.5), p90 = percentile(ks, 0.9);
+    std::cout << "cave4 through the conformal map: K median " << median << ", p90 " << p90 << " over " << ks.size()
+              << " pixels\n";
+    EXPECT_LT(median, 1.01);
+    EXPECT_LT(p90, 1.05);
+}
+
 }  // namespace
