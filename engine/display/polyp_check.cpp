@@ -222,6 +222,7 @@ std::vector<PolypViewResult> checkPolyps(Raycaster& raycaster, const PolypCheckJ
     }
 
     std::vector<PolypViewResult> results;
+    std::vector<colon::ViewSample> samples;  // one eye's walls, reused from view to view
     for (conformal::MapKind map : job.maps) {
         Display display = job.display;
         display.map = map;
@@ -236,11 +237,10 @@ std::vector<PolypViewResult> checkPolyps(Raycaster& raycaster, const PolypCheckJ
                 const ScenePose scene{pose.positionMm, pose.forward, pose.up, job.mmPerMetre};
                 const std::vector<WallImage> walls = renderWalls(raycaster, display, scene, kEyes, settings, job.warpMode);
                 for (Eye eye : kEyes) {
-                    std::vector<colon::ViewSample> samples;
+                    samples.clear();
                     for (const WallImage& wall : walls) {
                         if (wall.eye != eye) continue;
-                        const auto more = viewSamples(wallView(display, wall.wall, eye, scene, job.warpMode).rays, wall.image);
-                        samples.insert(samples.end(), more.begin(), more.end());
+                        appendViewSamples(wallView(display, wall.wall, eye, scene, job.warpMode).rays, wall.image, samples);
                     }
                     const Reference& reference = references[{index, p, eye}];
                     PolypViewResult result;

@@ -6,6 +6,12 @@
 namespace engine {
 
 std::vector<colon::ViewSample> viewSamples(const ViewRays& rays, const RenderedImage& image) {
+    std::vector<colon::ViewSample> samples;
+    appendViewSamples(rays, image, samples);
+    return samples;
+}
+
+void appendViewSamples(const ViewRays& rays, const RenderedImage& image, std::vector<colon::ViewSample>& samples) {
     if (image.width != rays.width || image.height != rays.height) {
         throw std::invalid_argument("view samples: the image does not fit its rays");
     }
@@ -17,12 +23,13 @@ std::vector<colon::ViewSample> viewSamples(const ViewRays& rays, const RenderedI
     // the solid angle a cos t / r^2.
     const glm::dvec3 normal = wallNormalOf(rays);
     const double pixelArea = glm::length(glm::cross(rays.wallUMm, rays.wallVMm)) / static_cast<double>(pixels);
-    std::vector<colon::ViewSample> samples(pixels);
+    const std::size_t first = samples.size();
+    samples.resize(first + pixels);
     for (int row = 0; row < image.height; ++row)
         for (int column = 0; column < image.width; ++column) {
             const std::size_t n = static_cast<std::size_t>(row) * static_cast<std::size_t>(image.width) +
                                   static_cast<std::size_t>(column);
-            colon::ViewSample& sample = samples[n];
+            colon::ViewSample& sample = samples[first + n];
             const glm::dvec3 onWall = rays.wallOriginMm + (column + 0.5) / image.width * rays.wallUMm +
                                       (row + 0.5) / image.height * rays.wallVMm;
             const glm::dvec3 toWall = onWall - rays.eyeMm;
@@ -33,7 +40,6 @@ std::vector<colon::ViewSample> viewSamples(const ViewRays& rays, const RenderedI
             sample.hitMm = glm::dvec3(image.hitMm[4 * n], image.hitMm[4 * n + 1], image.hitMm[4 * n + 2]);
             for (std::size_t c = 0; c < 4; ++c) sample.rgba[c] = image.rgba[4 * n + c];
         }
-    return samples;
 }
 
 }  // namespace engine

@@ -15,4 +15,9 @@ namespace engine {
 /// std::invalid_argument when the image does not fit the rays or has no hit positions.
 std::vector<colon::ViewSample> viewSamples(const ViewRays& rays, const RenderedImage& image);
 
+/// The same samples appended to `samples`: a caller gathering several walls' samples for many
+/// views reuses one vector's memory instead of allocating (and page-faulting in) hundreds of
+/// megabytes per view.
+void appendViewSamples(const ViewRays& rays, const RenderedImage& image, std::vector<colon::ViewSample>& samples);
+
 }  // namespace engine

@@ -223,6 +223,10 @@ TEST(DisplayRender, FourWallCaveRendersThroughItsMapAndRefusesTheCabinsBake) {
         << wrong.err;
     const auto right = runCvc(render + " --cube-map " + cave4Map.string(), cache);
     EXPECT_EQ(right.exitCode, 0) << right.err;
+    // The linear baseline bends cave4's rays too.
+    const auto linear = runCvc(render + " --map linear --map-size 16", cache);
+    EXPECT_EQ(linear.exitCode, 0) << linear.err;
+    EXPECT_NE(linear.err.find("map: linear, 16^2 per face"), std::string::npos) << linear.err;
 }
 
 TEST(DisplayRender, BakedCubeMapOfTheDisplayIsUsedAndRecorded) {
