@@ -392,9 +392,9 @@ glm::dvec3 ConformalMap::missingExtension(const glm::dvec3& display) const {
     // F(b + v) := 2 F(b) - F(b - v) continues F with its value and normal derivative across the
     // edge. Only texels near the edges matter (filtering across them); deeper in, where the
     // foot or the mirrored direction falls outside the display domain, the value at the foot
-    // or at the edge's nearer corner is held.
-    // The edges of the direction's missing face; every edge where rounding put a direction on
-    // an edge outside both the mesh and the missing faces' closed rectangles.
+    // or at the edge's nearer corner is held. The edge is the nearest of the direction's own
+    // missing face, or of any missing face where rounding left a direction on an edge outside
+    // both the mesh and every missing face's closed rectangle.
     const int face = missingFaceOfDirection(mSettings.box, display);
     const BoundaryEdge* nearest = nullptr;
     for (int f = 0; f < kBoxFaceCount; ++f) {

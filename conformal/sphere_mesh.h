@@ -49,11 +49,13 @@ struct SphereMesh {
     /// ceilingCornerDirections.
     std::vector<int> cornerVertices;
     /// The vertex at the floor's centre (the nadir when the map centre is centred in x and z);
-    /// without a floor, the centre of the first present face among front, right, left, back.
+    /// without a floor, the centre of the first present face among front, right, left, back,
+    /// ceiling.
     int nadirVertex = -1;
     /// The missing walls less the slit fall into sectors, one per pair of tips that follow each
-    /// other along the boundary; sector k runs from tip k (index into cornerVertices) to tip
-    /// sectorTips[k][1]. For the cabin sector k is the ceiling triangle (zenith, corner k,
+    /// other along the boundary; sector k runs from tip sectorTips[k][0] to tip sectorTips[k][1]
+    /// (indices into cornerVertices), and where those follow each other in azimuth order the
+    /// first is tip k. For the cabin sector k is the ceiling triangle (zenith, corner k,
     /// corner k + 1).
     std::vector<std::array<int, 2>> sectorTips;
     /// For Omega6, the sector that owns each copy of a vertex on the slit; -1 for every other
