@@ -20,6 +20,7 @@
 #include "app/rank_stop_report.h"
 #include "app/render_options.h"
 #include "conformal/cube_map_baker.h"
+#include "conformal/cube_map_speed.h"
 #include "engine/core/gpu_context.h"
 #include "engine/display/camera_path.h"
 #include "engine/display/display_json.h"
@@ -198,6 +199,10 @@ void runDisplayRender(const RenderOptions& givenOptions) {
                       << '\n';
         }
         raycaster.setCubeMap(map.size, map.rgba);
+        if (job.settings.isSkippingBentRays && job.warpMode == engine::WarpMode::Exact) {
+            const conformal::SpeedBoundMap bounds = conformal::speedBoundMap(map.size, map.rgba);
+            raycaster.setSpeedBounds(bounds.size, bounds.rgba);
+        }
     };
     if (hasMap && mpi.rank() == 0) loadMap();
     mpi.barrier();

@@ -127,8 +127,10 @@ void refuseOptionsNotApplying(const CLI::App& command, const RenderOptions& opti
     } else {
         refuseGivenOptions(command, {"--tf", "--early-termination"}, "is for --mode composite");
     }
+    if (options.warp != "exact") refuseGivenOptions(command, {"--skip-bent-rays"}, "is for --warp exact");
     if (options.isSkippingOff) {
-        refuseGivenOptions(command, {"--skip-cell"}, "sets the empty-space map, which --no-skip turns off");
+        refuseGivenOptions(command, {"--skip-cell", "--no-start-pass", "--skip-bent-rays"},
+                           "sets how empty space is skipped, which --no-skip turns off");
     }
     if (options.filter == "tricubic" && !options.gradient.empty() && options.gradient != "bspline") {
         throw std::invalid_argument("--gradient " + options.gradient +
@@ -147,6 +149,7 @@ engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isD
     const std::string gradient = !options.gradient.empty() ? options.gradient : isDisplay ? "central" : "bspline";
     settings.gradient = gradient == "central" ? engine::GradientFilter::Central : engine::GradientFilter::BSpline;
     settings.isSkipping = !options.isSkippingOff;
+    settings.isUsingRayStartPass = !options.isStartPassOff;
     // Each default is chosen here, once; a value given is passed on as it is, so a bad one is
     // refused by the ray caster's checks instead of silently replaced.
     settings.lightHalfDistanceMm = options.lightHalfDistanceMm.value_or(isDisplay ? 25.0 : 0.0);
@@ -251,6 +254,13 @@ void addRenderCommand(CLI::App& program) {
                         "bspline for a pinhole view, central for display frames; tricubic always uses bspline")
         ->check(CLI::IsMember({"bspline", "central"}))->group(rendering);
     command->add_flag("--no-skip", options->isSkippingOff, "Turn off empty-space skipping")->group(rendering);
+    command->add_flag("--no-start-pass", options->isStartPassOff,
+                      "Skip empty space in the march only, without the pass over 8x8 tiles that starts rays past it")
+        ->group(rendering);
+    command->add_flag("--skip-bent-rays", s.isSkippingBentRays,
+                      "--warp exact: skip empty space along the bent rays too, by the map's speed bound "
+                      "(slower on lavapipe; docs/benchmarks.md)")
+        ->group(rendering);
     command->add_option("--skip-cell", s.skipCellVoxels, "Edge in voxels of the empty-space map's cells (8: the 8^3 bricks)")
         ->check(CLI::Range(1, 64))->capture_default_str()->group(rendering);
     command->add_option("--early-termination", s.earlyTerminationOpacity,

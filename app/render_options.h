@@ -43,13 +43,14 @@ struct RenderOptions {
     // Several processes (mpirun): how the frames x eyes x walls are split
     std::string distribution = "frames";
     int polyp = -1;     // >= 0: one pose viewing this polyp of the path's ground truth
-    double polypElevationDeg = 60.0;
-    double polypAzimuthDeg = 0.0;     // ... that many degrees right of straight up  // ... seen ahead at this elevation (on the IC's ceiling)
+    double polypElevationDeg = 60.0;  // ... seen ahead at this elevation (on the IC's ceiling)
+    double polypAzimuthDeg = 0.0;     // ... that many degrees right of straight up
     // Rendering
     std::string mode = "iso";
     std::string filter = "trilinear";
     std::string gradient;  // empty: bspline for a pinhole view, central for display frames
     bool isSkippingOff = false;
+    bool isStartPassOff = false;
     engine::RenderSettings settings;
     std::optional<double> lightHalfDistanceMm;  // not given: none for a pinhole view, 25 mm for a display
     std::optional<double> stepVoxels;           // not given: 0.5 for a pinhole still, 1.0 for display frames

@@ -15,6 +15,7 @@
 
 #include "conformal/distortion.h"
 #include "conformal/linear_map.h"
+#include "conformal/parallel_for.h"
 
 namespace conformal {
 
@@ -36,18 +37,6 @@ void requireBakeableKind(MapKind kind) {
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-template <typename Function>
-void parallelFor(int count, Function&& body) {
-    const int workers = std::max(1u, std::thread::hardware_concurrency());
-    std::vector<std::future<void>> jobs;
-    for (int w = 0; w < workers; ++w) {
-        jobs.push_back(std::async(std::launch::async, [&, w] {
-            for (int k = w; k < count; k += workers) body(k);
-        }));
-    }
-    for (auto& job : jobs) job.get();
 }
 
 }  // namespace

@@ -21,7 +21,7 @@ cvc=build/app/cvc
 mkdir -p "$out"
 [ -f "$out/colon.nrrd" ] || "$cvc" phantom -o "$out/colon.nrrd" > /dev/null
 if [ "$with_vtk" != --no-vtk ] && [ ! -f "$out/phantom512.mhd" ]; then
-  /usr/bin/python3 ../shared/bench/vtk/make_phantom.py --out "$out/phantom512" > /dev/null
+  /usr/bin/python3 ../shared/bench/vtk/make_phantom.py --out "$(cd "$out" && pwd)/phantom512" > /dev/null
 fi
 echo "device: $("$cvc" render "$out/colon.nrrd" --size 8x8 --force -o "$out/probe.png" | sed -n 's/^rendered 8x8 on \(.*\): ray.*/\1/p')"
 echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
@@ -38,6 +38,9 @@ vtk() {
     --volume "$out/phantom512.mhd" --mapper cpu --mode iso --camera-json "$out/phantom512.json" --camera inside \
     --width 1024 --height 1024 --sample-distance 0.5 --png "$out/vtk.png" 2>/dev/null |
     /usr/bin/python3 -c 'import json, sys; print(json.loads(sys.stdin.read().strip().splitlines()[-1])["median_s"])'
+  # VTK renders a volume whose data file it cannot find as empty space, fast: refuse a black image.
+  /usr/bin/python3 -c 'import sys; from PIL import Image; sys.exit(Image.open(sys.argv[1]).getextrema()[0][1] == 0)' \
+    "$out/vtk.png" || { echo "bench_flythrough: VTK's image is black (is $out/phantom512.raw readable?)" >&2; exit 1; }
 }
 
 marginals=() devices=() vtks=()

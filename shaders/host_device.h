@@ -25,6 +25,8 @@ using uint = std::uint32_t;
 #define CVC_BINDING_TRANSFER_FUNCTION 5
 #define CVC_BINDING_CUBE_MAP 6
 #define CVC_BINDING_CHORD_TABLE 7  // per pixel, the cube-map texels of a chord's two ends
+#define CVC_BINDING_RAY_START 8    // per tile, where its rays' march may start (shaders/ray_start.glsl)
+#define CVC_BINDING_SPEED_BOUND 9  // coarse cube map: how fast the map may turn an exact-warped ray
 
 // Specialization constants: choices fixed per pipeline, so a variant carries no code (and no
 // fetches) for features it does not use.
@@ -36,6 +38,8 @@ using uint = std::uint32_t;
 #define CVC_SPEC_COUNT_FETCHES 5  // 1: hit image w = texture fetches the ray made (benchmarks)
 #define CVC_SPEC_GRADIENT 6    // CVC_GRADIENT_*: how shading normals are computed
 #define CVC_SPEC_CHORD_TABLE 7 // CVC_CHORD_TABLE_*: where chord mode gets its cube-map texels
+#define CVC_SPEC_RAY_START 8   // CVC_RAY_START_*: the tile pass that skips empty space before marching
+#define CVC_SPEC_REFINEMENT 9  // iso mode: bisection steps of a hit (a constant loop bound unrolls)
 
 #define CVC_MODE_ISO 0
 #define CVC_MODE_COMPOSITE 1
@@ -54,11 +58,19 @@ using uint = std::uint32_t;
 // The table: per pixel one vec4, the near and far ends' scene directions as octahedral
 // coordinates; after all pixels' vec4s, one float per pixel, the adaptive step's local scale.
 #define CVC_CHORD_TABLE_BYTES_PER_PIXEL 20
+// A pass over the image's tiles (one invocation per CVC_TILE_SIZE^2 pixels) writes, per tile, a
+// ray parameter before which every ray of the tile crosses only empty cells; the march reads it.
+#define CVC_RAY_START_NONE 0  // rays start where they enter the box
+#define CVC_RAY_START_READ 1  // rays start at their tile's entry of the ray-start table
+#define CVC_RAY_START_FILL 2  // the tile pass: write the table; no ray is marched
 
 // Bits of RaycastUniforms::flags
 #define CVC_FLAG_WRITE_HITS 1u
 #define CVC_FLAG_JITTER 2u
 #define CVC_FLAG_WRITE_NORMALS 4u  // the hit image holds the shading normal (xyz) instead of the position
+// Tests: the hit image holds ray parameters instead of the position: x the ray's own start, y its
+// start after the tile pass, z the first sample that contributes (iso: the refined hit), w hit.
+#define CVC_FLAG_WRITE_RAY_STARTS 8u
 
 // Work-group size of the image-space shaders (pixels per group along x and y).
 #define CVC_TILE_SIZE 8
@@ -72,7 +84,7 @@ struct RaycastUniforms {
     vec3 eyeMm;            float nearMm;            // near plane: this far from the eye along wallNormal
     vec3 wallOriginMm;     float stepMm;            // corner at pixel (0, 0)'s outer corner (top left); base step
     vec3 wallUMm;          float isoHu;             // the image's full width, left to right; iso value
-    vec3 wallVMm;          float refinementSteps;   // full height, top to bottom; bisection steps of a hit
+    vec3 wallVMm;          float speedBoundCosReach;  // full height, top to bottom; exact warp: where the speed bound holds
     vec3 wallNormal;       float maxSteps;          // unit normal of the image plane, away from the eye; step bound
     // Warp W(q) = c + |q - c| R F(R^T dir(q - c)) (paper Eq. 7), in volume millimetres.
     vec3 mapCentreMm;      float minStepMm;         // c, the map centre (the CAVE's centre); adaptive step bounds

@@ -18,6 +18,7 @@ layout(constant_id = CVC_SPEC_ADAPTIVE) const bool kAdaptive = false;
 layout(constant_id = CVC_SPEC_COUNT_FETCHES) const bool kCountFetches = false;
 layout(constant_id = CVC_SPEC_GRADIENT) const int kGradient = CVC_GRADIENT_BSPLINE;
 layout(constant_id = CVC_SPEC_CHORD_TABLE) const int kChordTable = CVC_CHORD_TABLE_NONE;
+layout(constant_id = CVC_SPEC_REFINEMENT) const int kRefinementSteps = 6;
 
 // Volume fetches this invocation made (only kept when kCountFetches: a benchmark's counter).
 uint gFetchCount = 0u;
@@ -29,6 +30,7 @@ layout(binding = CVC_BINDING_HIT_IMAGE, rgba32f) uniform writeonly image2D hitIm
 layout(binding = CVC_BINDING_SKIP_DISTANCE) uniform usampler3D skipDistance;
 layout(binding = CVC_BINDING_TRANSFER_FUNCTION) uniform sampler2D transferFunction;
 layout(binding = CVC_BINDING_CUBE_MAP) uniform samplerCube cubeMap;
+layout(binding = CVC_BINDING_SPEED_BOUND) uniform samplerCube speedBoundMap;
 layout(std430, binding = CVC_BINDING_CHORD_TABLE) buffer ChordTable { vec4 chordTable[]; };
 
 #include "ray_box.glsl"
@@ -53,6 +55,7 @@ struct Segment {
     float tEnd;
     float eyeDistance;  // distance from the eye to origin + tStart * dir, minus tStart
     float localScale;   // the map's local scale along this pixel's display direction
+    float speedBound;   // exact mode: the map's angular speed bound near the ray's final direction
 };
 
 Segment withTextureRay(Segment s) {
@@ -70,6 +73,7 @@ Segment segmentForPixel(uvec2 pixel) {
 
     Segment s;
     s.localScale = 1.0;
+    s.speedBound = 0.0;
     s.eyeDistance = 0.0;
     if (kWarp == CVC_WARP_NONE) {
         vec2 span = intersectBox(eye, dir, u.boxMinMm, u.boxMaxMm);
@@ -108,6 +112,9 @@ Segment segmentForPixel(uvec2 pixel) {
                                                            : sceneFromDisplay(normalize(wallPoint - c)).w;
     }
     if (kWarp == CVC_WARP_EXACT) {
+        // The direction of a ray's point seen from the map centre turns toward dir as the ray
+        // goes on: the bound near dir serves its skips (skipAlongBentRay).
+        if (kSkipping) s.speedBound = textureLod(speedBoundMap, transpose(caveToVolume()) * dir, 0.0).r;
         s.origin = eye;
         s.dir = dir;
         s.tStart = tNear;
@@ -155,6 +162,7 @@ float minSpacingMm() {
 }
 
 #include "empty_space.glsl"
+#include "ray_start.glsl"
 
 // Step length at t: the base step, lengthened where one pixel covers more than a voxel (far
 // away, or where the map compresses the scene), within [min step, max step].
@@ -170,8 +178,44 @@ float stepAt(Segment s, float t) {
 // step the new t stays on the grid of t's an unskipped ray visits, so the image does not
 // change; tPrev becomes the grid point before it, which lies in empty space. Near matter the
 // per-sample cost is one comparison until the ray enters the next cell.
-bool skipEmptySpace(Segment s, vec3 invDir, inout float tCheck, inout float t, inout float tPrev) {
-    if (!kSkipping || kWarp == CVC_WARP_EXACT || t < tCheck) return false;
+//
+// An exact-warped ray is bent at every sample: its scene point W(q), q = o + t d, moves at most
+// (1 + L) mm per mm of t. The radius |q - c| changes by at most 1 mm, and the direction of
+// q - c turns by at most 1 / |q - c| radians per mm, which the map turns into at most L / |q - c|
+// (L: the map's angular speed bound). The ball the distance map leaves empty around W(q) then
+// holds the next R / (1 + L) mm of the ray. L comes from the coarse bound map near d, and holds
+// while the direction of q - c stays within the bound's reach of d: from a point where it does,
+// it only turns further toward d. Near the map's singular points L is large and the skips
+// shrink to nothing, as they should. A bent ray has no straight cell exit, and a look costs a
+// map fetch of its own: after each look that finds no skip the next waits twice as many steps
+// (from kStepsPerSkipCheck up to kMaxBentSkipWait), and a skip starts the waits afresh.
+const float kMaxBentSkipWait = 64.0;
+
+bool skipAlongBentRay(Segment s, inout float tCheck, inout float wait, inout float t, inout float tPrev) {
+    float step = stepAt(s, t);
+    vec3 fromCentre = s.origin + t * s.dir - u.mapCentreMm;
+    float radius = length(fromCentre);
+    float steps = 0.0;
+    if (radius > 1e-6 && dot(fromCentre, s.dir) >= u.speedBoundCosReach * radius) {
+        vec3 p = pointAt(s, t);
+        float freeMm = float(max(skipDistanceAt(cellOf(p)), 1u) - 1u) * cellVoxels() * minSpacingMm();
+        steps = floor(freeMm / ((1.0 + s.speedBound) * step));
+    }
+    if (steps < 1.0) {
+        tCheck = t + (wait - 0.5) * step;
+        wait = min(2.0 * wait, kMaxBentSkipWait);
+        return false;
+    }
+    t += steps * step;
+    tPrev = t - step;
+    wait = float(kStepsPerSkipCheck);
+    return true;
+}
+
+// `wait` is the exact warp's: the steps its next fruitless look waits (skipAlongBentRay).
+bool skipEmptySpace(Segment s, vec3 invDir, inout float tCheck, inout float wait, inout float t, inout float tPrev) {
+    if (!kSkipping || t < tCheck) return false;
+    if (kWarp == CVC_WARP_EXACT) return skipAlongBentRay(s, tCheck, wait, t, tPrev);
     ivec3 cell = cellOf(s.origin + t * s.dir);
     uint distanceCells = skipDistanceAt(cell);
     float step = stepAt(s, t);
@@ -186,18 +230,30 @@ bool skipEmptySpace(Segment s, vec3 invDir, inout float tCheck, inout float t, i
     return true;
 }
 
+// Below this gradient a sample lies in homogeneous material, where the gradient's direction is
+// float rounding, not a surface: it is shaded as if facing the eye. (CT noise alone gives tens
+// of HU per mm; a tissue boundary hundreds.)
+const float kFlatGradientHuPerMm = 0.5;
+
 vec3 normalAt(vec3 p, vec3 towardEye) {
     vec3 g = gradientCentralHu(p, kGradient == CVC_GRADIENT_BSPLINE || kFilter == CVC_FILTER_TRICUBIC);
     float gLength = length(g);
-    return gLength > 1e-6 ? -g / gLength : towardEye;
+    return gLength > kFlatGradientHuPerMm ? -g / gLength : towardEye;
 }
 
 void main() {
+    if (kRayStart == CVC_RAY_START_FILL) {
+        writeTileStart(gl_GlobalInvocationID.xy);  // one invocation per tile; no image is written
+        return;
+    }
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= u.imageSize.x || pixel.y >= u.imageSize.y) return;
 
     Segment s = segmentForPixel(pixel);
     if (kChordTable == CVC_CHORD_TABLE_FILL) return;  // the table is written; no image is
+    float tOwnStart = s.tStart;
+    s.tStart = rayStartOf(s, pixel);
+    float tFirst = -1.0;  // the first sample that contributes (for CVC_FLAG_WRITE_RAY_STARTS)
     // Fraction of a step by which the first sample is offset; 0 without jitter.
     float jitter = (u.flags & CVC_FLAG_JITTER) != 0u ? jitterFraction(pixel, u.jitterSeed) : 0.0;
     vec3 invDir = safeInverse(s.dir);
@@ -208,6 +264,7 @@ void main() {
     vec4 hit = vec4(0.0);
     if (s.tStart < s.tEnd) {
         float tCheck = -1.0;  // read the distance map at the first sample
+        float skipWait = float(kStepsPerSkipCheck);
         float tPrev = s.tStart;
         float t = s.tStart;
         if (kMode == CVC_MODE_ISO) {
@@ -222,7 +279,7 @@ void main() {
             float vHit = vStart;
             t += (jitter > 0.0 ? jitter : 1.0) * stepAt(s, t);  // tStart itself was just sampled
             for (int i = 0; i < maxSteps && !isHit && t <= s.tEnd;) {
-                if (skipEmptySpace(s, invDir, tCheck, t, tPrev)) {
+                if (skipEmptySpace(s, invDir, tCheck, skipWait, t, tPrev)) {
                     isPrevKnown = false;
                     ++i;
                     continue;
@@ -244,14 +301,13 @@ void main() {
             }
             if (isHit) {
                 float tHit = isInside ? s.tStart : t;
-                if (!isInside && u.refinementSteps > 0.0) {
+                if (!isInside && kRefinementSteps > 0) {
                     // The crossing lies in (tPrev, t]: bisect, keeping lo below and hi at or above
                     // the iso value, then interpolate linearly between their known values.
                     float lo = tPrev, hi = t;
                     float vLo = isPrevKnown ? vPrev : valueAt(s, lo);  // after a skip: one fetch
                     float vHi = vHit;
-                    int refinementSteps = int(u.refinementSteps);
-                    for (int b = 0; b < refinementSteps; ++b) {
+                    for (int b = 0; b < kRefinementSteps; ++b) {
                         float mid = 0.5 * (lo + hi);
                         float vMid = valueAt(s, mid);
                         if (vMid >= iso) {
@@ -265,6 +321,7 @@ void main() {
                     float f = vHi > vLo ? clamp((iso - vLo) / (vHi - vLo), 0.0, 1.0) : 1.0;
                     tHit = mix(lo, hi, f);
                 }
+                tFirst = tHit;
                 vec3 p = pointAt(s, tHit);
                 vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm - p) : -s.dir;
                 vec3 normal = normalAt(p, towardEye);
@@ -276,11 +333,12 @@ void main() {
             vec4 accumulated = vec4(0.0);
             t += jitter * stepAt(s, t);
             for (int i = 0; i < maxSteps && t <= s.tEnd; ++i) {
-                if (skipEmptySpace(s, invDir, tCheck, t, tPrev)) continue;
+                if (skipEmptySpace(s, invDir, tCheck, skipWait, t, tPrev)) continue;
                 float step = stepAt(s, t);
                 vec3 p = pointAt(s, t);
                 vec4 sampleColor = classify(valueAt(s, t), step);
                 if (sampleColor.a > 1.0 / 1024.0) {
+                    if (tFirst < 0.0) tFirst = t;
                     // Gradients only for samples that contribute.
                     vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm - p) : -s.dir;
                     vec3 normal = normalAt(p, towardEye);
@@ -299,6 +357,7 @@ void main() {
         }
     }
     imageStore(colorImage, ivec2(pixel), vec4(pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0));
+    if ((u.flags & CVC_FLAG_WRITE_RAY_STARTS) != 0u) hit = vec4(tOwnStart, s.tStart, tFirst, tFirst >= 0.0 ? 1.0 : 0.0);
     if (kCountFetches) hit.w = float(gFetchCount);
     if ((u.flags & CVC_FLAG_WRITE_HITS) != 0u) imageStore(hitImage, ivec2(pixel), hit);
 }

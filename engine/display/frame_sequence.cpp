@@ -383,6 +383,8 @@ std::string sequenceManifest(const SequenceJob& job) {
                             {"gradient", s.gradient == GradientFilter::BSpline ? "bspline" : "central"},
                             {"skipping", s.isSkipping},
                             {"skip_cell_voxels", s.skipCellVoxels},
+                            {"start_pass", s.isUsingRayStartPass},
+                            {"skip_bent_rays", s.isSkippingBentRays},
                             {"adaptive", s.isAdaptive},
                             {"early_termination", s.earlyTerminationOpacity},
                             {"jitter", s.isJittered},

@@ -6,6 +6,7 @@
 #include <utility>
 #include <stdexcept>
 
+#include "conformal/cube_map_speed.h"
 #include "engine/core/command_submission.h"
 #include "engine/render/empty_space_map.h"
 #include "host_device.h"
@@ -29,6 +30,8 @@ constexpr std::pair<uint32_t, vk::DescriptorType> kRaycastBindings[] = {
     {CVC_BINDING_TRANSFER_FUNCTION, vk::DescriptorType::eCombinedImageSampler},
     {CVC_BINDING_CUBE_MAP, vk::DescriptorType::eCombinedImageSampler},
     {CVC_BINDING_CHORD_TABLE, vk::DescriptorType::eStorageBuffer},
+    {CVC_BINDING_RAY_START, vk::DescriptorType::eStorageBuffer},
+    {CVC_BINDING_SPEED_BOUND, vk::DescriptorType::eCombinedImageSampler},
 };
 
 /// The descriptor types by binding number, as ComputePipeline takes them.
@@ -37,6 +40,14 @@ std::vector<vk::DescriptorType> raycastDescriptorTypes() {
     for (const auto& [binding, type] : kRaycastBindings) types.at(binding) = type;
     return types;
 }
+
+/// Whether a request's march starts where the tile pass says: with skipping, whose distance map
+/// the pass reads, and with straight segments (the exact warp bends every sample).
+bool usesRayStartPass(const RenderRequest& request) {
+    return request.settings.isSkipping && request.settings.isUsingRayStartPass && request.warp.mode != WarpMode::Exact;
+}
+
+uint32_t tilesAlong(int pixels) { return static_cast<uint32_t>((pixels + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE); }
 
 }  // namespace
 
@@ -94,6 +105,7 @@ struct Raycaster::Slot {
     GpuBuffer uniforms;
     GpuBuffer fillUniforms;  // the chord table's geometry, for a request that fills one
     std::unique_ptr<GpuBuffer> scratchChordTable;  // filled per frame once the tables' budget is spent
+    std::unique_ptr<GpuBuffer> rayStarts;          // the tile pass's table: a float per tile
     GpuTimer timer;
     std::map<std::pair<int, int>, std::unique_ptr<Targets>> targets;
     Targets* current = nullptr;  // the targets of the image this slot holds now
@@ -119,10 +131,13 @@ Raycaster::Raycaster(const GpuContext& context, const volumes::Volume& volume, c
       mVolume(&texture),
       mBricks(&bricks),
       mCubeMap(makeIdentityCubeMapTexture(context)),
+      mSpeedBounds(makeIdentityCubeMapTexture(context)),  // unread until a warp's map comes
       mNoHitImage(context, vk::Extent3D(1, 1, 1), vk::Format::eR32G32B32A32Sfloat, vk::ImageUsageFlagBits::eStorage,
                   "unused hit position image"),
       mNoChordTable(context, 2 * CVC_CHORD_TABLE_BYTES_PER_PIXEL, vk::BufferUsageFlagBits::eStorageBuffer,
-                    GpuBuffer::Memory::DeviceLocal, "unused chord table") {
+                    GpuBuffer::Memory::DeviceLocal, "unused chord table"),
+      mNoRayStarts(context, 16, vk::BufferUsageFlagBits::eStorageBuffer, GpuBuffer::Memory::DeviceLocal,
+                   "unused ray-start table") {
     if (volume.dims != texture.dims() || bricks.brickSize != volumes::kBrickSize ||
         bricks.brickDims != volumes::brickDimsFor(volume.dims)) {
         throw std::invalid_argument("volume, texture and brick min/max do not belong together");
@@ -139,22 +154,32 @@ void Raycaster::setChordTableBudget(std::uint64_t bytes) { mChordTableBudgetByte
 void Raycaster::setCubeMap(int size, std::span<const float> rgba) {
     mCubeMap = makeCubeMapTexture(*mContext, size, rgba);
     mHasCubeMap = true;
+    mHasSpeedBounds = false;  // they belonged to the old map
     mChordTables.clear();  // their texels came from the old map
     mChordTableBytes = 0;
 }
 
-ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode warp, int chordTable) {
+void Raycaster::setSpeedBounds(int size, std::span<const float> rgba) {
+    mSpeedBounds = makeCubeMapTexture(*mContext, size, rgba);
+    mHasSpeedBounds = true;
+}
+
+ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode warp, int chordTable, int rayStart) {
     const int32_t mode = settings.mode == RenderMode::Composite ? CVC_MODE_COMPOSITE : CVC_MODE_ISO;
     const int32_t filter = settings.filter == VolumeFilter::Tricubic ? CVC_FILTER_TRICUBIC : CVC_FILTER_TRILINEAR;
     const int32_t warpId = warp == WarpMode::Exact ? CVC_WARP_EXACT : warp == WarpMode::Chord ? CVC_WARP_CHORD : CVC_WARP_NONE;
     const int32_t gradient = settings.gradient == GradientFilter::BSpline ? CVC_GRADIENT_BSPLINE : CVC_GRADIENT_CENTRAL;
-    const PipelineKey key{mode, filter, warpId, settings.isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0,
-                          settings.isCountingFetches ? 1 : 0, gradient, chordTable};
+    // Only iso mode refines hits: composite pipelines share one value.
+    const int32_t refinement = mode == CVC_MODE_ISO ? settings.refinementSteps : 0;
+    // Exact-warped rays skip only when asked to (RenderSettings::isSkippingBentRays).
+    const bool isSkipping = settings.isSkipping && (warp != WarpMode::Exact || settings.isSkippingBentRays);
+    const PipelineKey key{mode, filter, warpId, isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0,
+                          settings.isCountingFetches ? 1 : 0, gradient, chordTable, rayStart, refinement};
     auto& slot = mPipelines[key];
     if (!slot) {
-        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_CHORD_TABLE.
+        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_REFINEMENT.
         const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key), gradient,
-                                     chordTable};
+                                     chordTable, rayStart, refinement};
         slot = std::make_unique<ComputePipeline>(
             *mContext, raycast_spv, raycastDescriptorTypes(),
             0, "ray caster", constants, static_cast<uint32_t>(kMaxImagesInFlight));
@@ -162,14 +187,50 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
     return *slot;
 }
 
-const SampledTexture& Raycaster::transferTextureFor(const std::string& name) {
-    auto found = mTransferTextures.find(name);
+ComputePipeline& Raycaster::rayStartFillPipelineFor(WarpMode warp, int chordTable) {
+    // The pass builds each pixel's segment and reads the distance map; the other features do not
+    // reach it, so one pipeline per warp and chord-table use serves every request.
+    RenderSettings settings;
+    settings.isSkipping = true;
+    settings.isAdaptive = false;
+    settings.isCountingFetches = false;
+    return pipelineFor(settings, warp, chordTable, CVC_RAY_START_FILL);
+}
+
+const TransferTable& Raycaster::transferTableFor(const std::string& name) {
+    auto found = mTransferTables.find(name);
+    if (found == mTransferTables.end()) found = mTransferTables.emplace(name, tabulate(transferFunctionPreset(name))).first;
+    return found->second;
+}
+
+std::string Raycaster::transferNameOf(const RenderSettings& settings) {
+    // Iso mode reads no table, but the binding needs one.
+    return settings.mode == RenderMode::Composite ? settings.transferFunction : "colon-wall";
+}
+
+const SampledTexture& Raycaster::transferTextureFor(const RenderSettings& settings) {
+    const std::string name = transferNameOf(settings);
+    // A fixed step gets the table corrected for it (no power per sample); the adaptive step's
+    // samples correct the reference opacities themselves.
+    const bool isCorrected = settings.mode == RenderMode::Composite && !settings.isAdaptive;
+    std::ostringstream key;
+    key.precision(17);
+    key << name;
+    if (isCorrected) key << '@' << baseStepMm(settings);
+    auto found = mTransferTextures.find(key.str());
     if (found == mTransferTextures.end()) {
-        const TransferTable table = tabulate(transferFunctionPreset(name));
-        found = mTransferTextures.emplace(name, makeTransferTexture(*mContext, table)).first;
-        mTransferTables.emplace(name, table);
+        const TransferTable& table = transferTableFor(name);
+        found = mTransferTextures
+                    .emplace(key.str(), makeTransferTexture(*mContext, isCorrected ? correctedForStep(table, baseStepMm(settings))
+                                                                                   : table))
+                    .first;
     }
     return found->second;
+}
+
+double Raycaster::baseStepMm(const RenderSettings& settings) const {
+    const glm::dvec3 spacing = mVolume->spacingMm();
+    return settings.stepVoxels * std::min({spacing.x, spacing.y, spacing.z});
 }
 
 const SampledTexture& Raycaster::skipDistanceFor(const RenderSettings& settings) {
@@ -196,7 +257,7 @@ const SampledTexture& Raycaster::skipDistanceFor(const RenderSettings& settings)
         const std::vector<uint8_t> occupied =
             settings.mode == RenderMode::IsoSurface
                 ? volumes::bricksForPredicate(cells, [iso](int16_t, int16_t maxHu) { return maxHu >= iso; })
-                : volumes::bricksForOpacity(cells, opacityTableOf(mTransferTables.at(settings.transferFunction)));
+                : volumes::bricksForOpacity(cells, opacityTableOf(transferTableFor(settings.transferFunction)));
         found = mSkipDistances
                     .emplace(key.str(), makeSkipDistanceTexture(*mContext, cells.brickDims,
                                                                 chebyshevDistanceMap(occupied, cells.brickDims)))
@@ -215,6 +276,10 @@ void Raycaster::validateRequest(const RenderRequest& request) const {
     (void)wallNormalOf(rays);  // throws for a degenerate image plane
     if (request.warp.mode != WarpMode::None && !mHasCubeMap) {
         throw std::logic_error("a warped render needs setCubeMap first");
+    }
+    if (request.warp.mode == WarpMode::Exact && request.settings.isSkipping && request.settings.isSkippingBentRays &&
+        !mHasSpeedBounds) {
+        throw std::logic_error("skipping along bent rays needs setSpeedBounds for the cube map first");
     }
 }
 
@@ -249,11 +314,16 @@ RenderBatch Raycaster::submit(std::span<const RenderRequest> requests) {
     std::vector<ChordTableUse> chordTables;
     for (std::size_t i = 0; i < requests.size(); ++i) {
         const RenderSettings& settings = requests[i].settings;
-        transferTextureFor(settings.mode == RenderMode::Composite ? settings.transferFunction : "colon-wall");
+        transferTextureFor(settings);
         skipDistanceFor(settings);
         chordTables.push_back(chordTableFor(requests[i], batch.mSlots[i]));
-        pipelineFor(settings, requests[i].warp.mode, chordTables.back().table ? CVC_CHORD_TABLE_READ : CVC_CHORD_TABLE_NONE);
-        if (chordTables.back().isFilling) pipelineFor(RenderSettings{}, WarpMode::Chord, CVC_CHORD_TABLE_FILL);
+        const int chordTable = chordTables.back().table ? CVC_CHORD_TABLE_READ : CVC_CHORD_TABLE_NONE;
+        const bool isStartPass = usesRayStartPass(requests[i]);
+        pipelineFor(settings, requests[i].warp.mode, chordTable, isStartPass ? CVC_RAY_START_READ : CVC_RAY_START_NONE);
+        if (chordTables.back().isFilling) {
+            pipelineFor(RenderSettings{}, WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
+        }
+        if (isStartPass) rayStartFillPipelineFor(requests[i].warp.mode, chordTable);
     }
     batch.mWork.emplace(*mContext, [&](const vk::raii::CommandBuffer& commands) {
         for (std::size_t i = 0; i < requests.size(); ++i) {
@@ -389,7 +459,7 @@ shaders::RaycastUniforms Raycaster::uniformsFor(const RenderRequest& request, co
     const glm::dvec3 spacing = mVolume->spacingMm();
     const double minSpacing = std::min({spacing.x, spacing.y, spacing.z});
     const auto [boxMin, boxMax] = volumeBoxMm();
-    const double stepMm = settings.stepVoxels * minSpacing;
+    const double stepMm = baseStepMm(settings);
     const double minStepMm = settings.isAdaptive ? std::min(stepMm, settings.minStepVoxels * minSpacing) : stepMm;
     // Bound on a ray's steps: the longest segment any mode marches, over the shortest step.
     const double reachMm = 2.0 * glm::length(boxMax - boxMin) + 2.0 * glm::length(rays.eyeMm - 0.5 * (boxMin + boxMax)) +
@@ -407,7 +477,7 @@ shaders::RaycastUniforms Raycaster::uniformsFor(const RenderRequest& request, co
     u.wallUMm = glm::vec3(rays.wallUMm);
     u.isoHu = f(settings.isoHu);
     u.wallVMm = glm::vec3(rays.wallVMm);
-    u.refinementSteps = f(settings.refinementSteps);
+    u.speedBoundCosReach = f(std::cos(conformal::kSpeedBoundReachRadians));
     u.wallNormal = glm::vec3(wallNormal);
     u.maxSteps = f(maxSteps);
     u.mapCentreMm = glm::vec3(warp.mapCentreMm);
@@ -423,7 +493,7 @@ shaders::RaycastUniforms Raycaster::uniformsFor(const RenderRequest& request, co
     u.boxMaxMm = glm::vec3(boxMax);
     u.transferIndexPerHu = f((entries - 1.0) / (entries * (table.lastHu - table.firstHu)));
     u.texFromMmScale = glm::vec3(1.0 / (dims * spacing));
-    u.transferReferenceStepMm = 1.0f;
+    u.transferReferenceStepMm = f(kTransferReferenceStepMm);
     u.texFromMmOffset = glm::vec3(0.5 / dims);
     u.transferHalfEntry = f(0.5 / entries);
     u.volumeDims = glm::vec3(dims);
@@ -437,7 +507,8 @@ shaders::RaycastUniforms Raycaster::uniformsFor(const RenderRequest& request, co
     u.imageSize = glm::uvec2(static_cast<uint32_t>(rays.width), static_cast<uint32_t>(rays.height));
     u.jitterSeed = settings.jitterSeed;
     u.flags = (settings.isWritingHits ? CVC_FLAG_WRITE_HITS : 0u) | (settings.isJittered ? CVC_FLAG_JITTER : 0u) |
-              (settings.isWritingNormals ? CVC_FLAG_WRITE_NORMALS : 0u);
+              (settings.isWritingNormals ? CVC_FLAG_WRITE_NORMALS : 0u) |
+              (settings.isWritingRayStarts ? CVC_FLAG_WRITE_RAY_STARTS : 0u);
     return u;
 }
 
@@ -451,7 +522,7 @@ double Raycaster::chordReachFor(const Warp& warp) const {
 
 void Raycaster::bindResources(ComputePipeline& pipeline, uint32_t set, const GpuBuffer& uniforms, const GpuImage& color,
                               const GpuImage& hit, const SampledTexture& skipDistance, const SampledTexture& transfer,
-                              const GpuBuffer& chordTable) const {
+                              const GpuBuffer& chordTable, const GpuBuffer& rayStarts) const {
     pipeline.bindBuffer(CVC_BINDING_UNIFORMS, uniforms, set);
     pipeline.bindSampledImage(CVC_BINDING_VOLUME, mVolume->image(), mVolume->sampler(), set);
     pipeline.bindStorageImage(CVC_BINDING_COLOR_IMAGE, color, set);
@@ -459,7 +530,9 @@ void Raycaster::bindResources(ComputePipeline& pipeline, uint32_t set, const Gpu
     pipeline.bindSampledImage(CVC_BINDING_SKIP_DISTANCE, skipDistance.image, skipDistance.sampler, set);
     pipeline.bindSampledImage(CVC_BINDING_TRANSFER_FUNCTION, transfer.image, transfer.sampler, set);
     pipeline.bindSampledImage(CVC_BINDING_CUBE_MAP, mCubeMap.image, mCubeMap.sampler, set);
+    pipeline.bindSampledImage(CVC_BINDING_SPEED_BOUND, mSpeedBounds.image, mSpeedBounds.sampler, set);
     pipeline.bindBuffer(CVC_BINDING_CHORD_TABLE, chordTable, set);
+    pipeline.bindBuffer(CVC_BINDING_RAY_START, rayStarts, set);
 }
 
 void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex,
@@ -474,14 +547,23 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     if (settings.isWritingHits) targets.makeHitTargets(*mContext);
     const GpuImage& hitImage = settings.isWritingHits ? *targets.hit : mNoHitImage;
 
-    const std::string& transferName = settings.mode == RenderMode::Composite ? settings.transferFunction : "colon-wall";
-    const SampledTexture& transfer = transferTextureFor(transferName);
-    const TransferTable& table = mTransferTables.at(transferName);
+    const SampledTexture& transfer = transferTextureFor(settings);
+    const TransferTable& table = transferTableFor(transferNameOf(settings));
     const SampledTexture& skipDistance = skipDistanceFor(settings);
     const GpuBuffer& chordTexels = chordTable.table ? *chordTable.table : mNoChordTable;
+    const int chordTableUse = chordTable.table ? CVC_CHORD_TABLE_READ : CVC_CHORD_TABLE_NONE;
+    const bool isStartPass = usesRayStartPass(request);
+    const vk::DeviceSize tileCount = vk::DeviceSize{tilesAlong(rays.width)} * tilesAlong(rays.height);
+    if (isStartPass && (!slot.rayStarts || slot.rayStarts->sizeBytes() < tileCount * sizeof(float))) {
+        slot.rayStarts = std::make_unique<GpuBuffer>(*mContext, tileCount * sizeof(float),
+                                                     vk::BufferUsageFlagBits::eStorageBuffer,
+                                                     GpuBuffer::Memory::DeviceLocal, "ray-start table");
+    }
+    const GpuBuffer& rayStarts = isStartPass ? *slot.rayStarts : mNoRayStarts;
     ComputePipeline& pipeline =
-        pipelineFor(settings, warp.mode, chordTable.table ? CVC_CHORD_TABLE_READ : CVC_CHORD_TABLE_NONE);
-    bindResources(pipeline, set, slot.uniforms, targets.color, hitImage, skipDistance, transfer, chordTexels);
+        pipelineFor(settings, warp.mode, chordTableUse, isStartPass ? CVC_RAY_START_READ : CVC_RAY_START_NONE);
+    bindResources(pipeline, set, slot.uniforms, targets.color, hitImage, skipDistance, transfer, chordTexels,
+                  rayStarts);
 
     const shaders::RaycastUniforms u = uniformsFor(request, table, chordReachFor(warp));
     slot.uniforms.write(std::as_bytes(std::span(&u, 1)));
@@ -494,19 +576,30 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     if (settings.isWritingHits) {
         recordImageBarrier(commands, *targets.hit, vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral);
     }
-    const auto groups = [](int n) { return static_cast<uint32_t>((n + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE); };
-    const vk::Extent3D imageGroups(groups(rays.width), groups(rays.height), 1);
-    slot.timer.recordStart(commands);  // a table's fill counts in the frame that needed it
-    if (chordTable.isFilling) {
-        ComputePipeline& fill = pipelineFor(RenderSettings{}, WarpMode::Chord, CVC_CHORD_TABLE_FILL);
-        bindResources(fill, set, slot.fillUniforms, targets.color, hitImage, skipDistance, transfer, chordTexels);
-        fill.recordDispatch(commands, imageGroups, {}, set);
-    }
-    if (chordTable.table) {
-        // The table may have been filled just now or by an earlier batch still on the queue.
+    const vk::Extent3D imageGroups(tilesAlong(rays.width), tilesAlong(rays.height), 1);
+    const auto recordShaderWriteBarrier = [&commands] {
         const vk::MemoryBarrier written(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eShaderRead);
         commands.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eComputeShader,
                                  {}, written, {}, {});
+    };
+    slot.timer.recordStart(commands);  // a table's fill and the tile pass count in the frame
+    if (chordTable.isFilling) {
+        ComputePipeline& fill = pipelineFor(RenderSettings{}, WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
+        bindResources(fill, set, slot.fillUniforms, targets.color, hitImage, skipDistance, transfer, chordTexels,
+                      mNoRayStarts);
+        fill.recordDispatch(commands, imageGroups, {}, set);
+    }
+    // The table may have been filled just now or by an earlier batch still on the queue.
+    if (chordTable.table) recordShaderWriteBarrier();
+    if (isStartPass) {
+        // One invocation per tile: the pass's work groups cover CVC_TILE_SIZE^2 tiles each.
+        ComputePipeline& tilePass = rayStartFillPipelineFor(warp.mode, chordTableUse);
+        bindResources(tilePass, set, slot.uniforms, targets.color, hitImage, skipDistance, transfer, chordTexels,
+                      rayStarts);
+        const vk::Extent3D tileGroups(tilesAlong(static_cast<int>(imageGroups.width)),
+                                      tilesAlong(static_cast<int>(imageGroups.height)), 1);
+        tilePass.recordDispatch(commands, tileGroups, {}, set);
+        recordShaderWriteBarrier();
     }
     pipeline.recordDispatch(commands, imageGroups, {}, set);
     slot.timer.recordEnd(commands);

@@ -68,6 +68,10 @@ public:
     /// conformal::CubeMap (6 faces in Vulkan order, size^2 RGBA float each). Not while a batch
     /// is in flight.
     void setCubeMap(int size, std::span<const float> rgba);
+    /// Binds the bounds (conformal::speedBoundMap of the cube map set last) by which exact-warped
+    /// rays skip empty space when RenderSettings::isSkippingBentRays asks; a new cube map drops
+    /// them. Not while a batch is in flight.
+    void setSpeedBounds(int size, std::span<const float> rgba);
 
     /// Renders one image and waits for it. Throws std::invalid_argument for bad rays or
     /// settings, and std::logic_error for a warp without a cube map.
@@ -105,7 +109,7 @@ private:
         RenderRequest canonical;
         double canonicalReachMm = 0.0;
     };
-    using PipelineKey = std::tuple<int, int, int, int, int, int, int, int>;
+    using PipelineKey = std::tuple<int, int, int, int, int, int, int, int, int, int>;
 
     void validateRequest(const RenderRequest& request) const;
     void recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex,
@@ -121,12 +125,20 @@ private:
                                          double farReachMm) const;
     void bindResources(ComputePipeline& pipeline, uint32_t set, const GpuBuffer& uniforms, const GpuImage& color,
                        const GpuImage& hit, const SampledTexture& skipDistance, const SampledTexture& transfer,
-                       const GpuBuffer& chordTable) const;
+                       const GpuBuffer& chordTable, const GpuBuffer& rayStarts) const;
     void releaseSlots(const std::vector<int>& slots);
 
-    ComputePipeline& pipelineFor(const RenderSettings& settings, WarpMode warp, int chordTable);
+    ComputePipeline& pipelineFor(const RenderSettings& settings, WarpMode warp, int chordTable, int rayStart);
+    /// The tile pass's pipeline for a request's rays: only the ray construction matters to it.
+    ComputePipeline& rayStartFillPipelineFor(WarpMode warp, int chordTable);
     const SampledTexture& skipDistanceFor(const RenderSettings& settings);
-    const SampledTexture& transferTextureFor(const std::string& name);
+    /// The table of the preset `name`, tabulated on first use.
+    const TransferTable& transferTableFor(const std::string& name);
+    static std::string transferNameOf(const RenderSettings& settings);
+    /// The texture a request samples: its preset's table, corrected for a fixed step.
+    const SampledTexture& transferTextureFor(const RenderSettings& settings);
+    /// The base step in millimetres: settings' voxels times the smallest spacing.
+    double baseStepMm(const RenderSettings& settings) const;
 
     const GpuContext* mContext;
     const volumes::Volume* mVolumeData;
@@ -135,9 +147,11 @@ private:
     std::map<int, volumes::BrickMinMax> mFinerCells;  // by cell size
     SampledTexture mCubeMap;
     bool mHasCubeMap = false;
+    SampledTexture mSpeedBounds;  // conformal::speedBoundMap of the cube map: the exact warp's skips
+    bool mHasSpeedBounds = false;
     std::map<PipelineKey, std::unique_ptr<ComputePipeline>> mPipelines;
     std::map<std::string, SampledTexture> mSkipDistances;    // by cell size and "iso:<value>" or "tf:<name>"
-    std::map<std::string, SampledTexture> mTransferTextures;  // by preset name
+    std::map<std::string, SampledTexture> mTransferTextures;  // by preset name, and step where corrected
     std::map<std::string, TransferTable> mTransferTables;
     std::vector<std::unique_ptr<Slot>> mSlots;  // per-image uniforms, timers and targets
     std::vector<bool> mIsSlotBusy;
@@ -148,6 +162,7 @@ private:
     vk::DeviceSize mChordTableBytes = 0;
     std::uint64_t mChordTableBudgetBytes = std::uint64_t{1} << 30;
     GpuBuffer mNoChordTable;  // bound where no table is read or written
+    GpuBuffer mNoRayStarts;   // bound where the tile pass does not run
 };
 
 }  // namespace engine

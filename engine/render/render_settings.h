@@ -35,6 +35,13 @@ struct RenderSettings {
     VolumeFilter filter = VolumeFilter::Trilinear;
     GradientFilter gradient = GradientFilter::BSpline;  // docs/benchmarks.md, "Shading normals on coarse CT"
     bool isSkipping = true;                       // empty-space skipping over a distance map
+    /// With skipping (not with the exact warp): a pass over the image's 8x8 tiles first finds
+    /// where each tile's rays leave the empty space around them, and the march starts there.
+    bool isUsingRayStartPass = true;
+    /// With skipping and the exact warp: skip along the bent rays too, by the map's speed bound
+    /// (Raycaster::setSpeedBounds). Off by default: on lavapipe each look costs a map fetch, and
+    /// at the demo's pose the frame took 7 % longer with it (docs/benchmarks.md).
+    bool isSkippingBentRays = false;
     int skipCellVoxels = 2;                       // cell edge of that map, voxels (8: the 8^3 bricks)
     bool isAdaptive = false;                      // lengthen steps where a pixel covers > 1 voxel
     double minStepVoxels = 0.25;                  // adaptive step bounds
@@ -49,6 +56,10 @@ struct RenderSettings {
     bool isWritingHits = true;                    // fill RenderedImage::hitMm
     bool isCountingFetches = false;               // benchmarks: hitMm's w = volume fetches per ray
     bool isWritingNormals = false;                // tests: hitMm's xyz = the shading normal, not the position
+    /// Tests: hitMm holds ray parameters (mm along the marched segment) instead: x the ray's own
+    /// start, y its start after the tile pass, z the first sample that contributes (iso mode: the
+    /// refined hit), w 1 where one does.
+    bool isWritingRayStarts = false;
     /// Chord warp: keep the scene directions of each pixel's chord ends in a table per display
     /// geometry (wall, eye, scale), filled on first use and read on every later frame; false
     /// fetches them from the cube map per ray (the same images but for float rounding; tests

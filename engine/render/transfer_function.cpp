@@ -59,6 +59,17 @@ TransferTable tabulate(const TransferFunction& function, int entries) {
     return table;
 }
 
+TransferTable correctedForStep(const TransferTable& table, double stepMm) {
+    if (!(stepMm > 0.0) || !std::isfinite(stepMm)) throw std::invalid_argument("a transfer table's step must be positive");
+    TransferTable corrected = table;
+    const double exponent = stepMm / kTransferReferenceStepMm;
+    for (glm::vec4& entry : corrected.rgba) {
+        const double clear = std::max(1.0 - static_cast<double>(entry.a), 0.0);
+        entry.a = static_cast<float>(1.0 - std::pow(clear, exponent));
+    }
+    return corrected;
+}
+
 volumes::OpacityTable opacityTableOf(const TransferTable& table) {
     volumes::OpacityTable opacity;
     const auto n = static_cast<double>(table.rgba.size());

@@ -11,8 +11,12 @@
 
 namespace engine {
 
+/// Opacities of a transfer function are given for a step of this length.
+inline constexpr double kTransferReferenceStepMm = 1.0;
+
 /// A piecewise-linear transfer function: control points sorted by HU; colour is linear RGB,
-/// opacity is per reference step (1 mm) and is corrected in the shader for the actual step.
+/// opacity is per reference step (kTransferReferenceStepMm), corrected for the actual step:
+/// in the table for a fixed step (correctedForStep), per sample for the adaptive step.
 struct TransferFunction {
     struct Point {
         double hu;
@@ -41,6 +45,11 @@ struct TransferTable {
 /// Samples `function` into a table; throws std::invalid_argument for unsorted or empty points
 /// or opacities outside [0, 1].
 TransferTable tabulate(const TransferFunction& function, int entries = 1024);
+
+/// The table with each opacity a corrected to a step of `stepMm`: 1 - (1 - a)^(step / reference),
+/// the opacity of that much material, so a march at a fixed step needs no power per sample.
+/// Zero stays zero, so empty-space skipping selects the same bricks from either table.
+TransferTable correctedForStep(const TransferTable& table, double stepMm);
 
 /// The table's opacities in the form brick selection takes (volumes::bricksForOpacity).
 volumes::OpacityTable opacityTableOf(const TransferTable& table);

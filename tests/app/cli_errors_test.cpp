@@ -196,7 +196,9 @@ TEST(CliErrors, OptionsThatDoNotApplyAreRefusedNotIgnored) {
         {"--mode composite --refine 2", "--refine is for --mode iso"},
         {"--tf bone", "--tf is for --mode composite"},
         {"--early-termination 0.9", "--early-termination is for --mode composite"},
-        {"--no-skip --skip-cell 4", "--skip-cell sets the empty-space map, which --no-skip turns off"},
+        {"--no-skip --skip-cell 4", "--skip-cell sets how empty space is skipped, which --no-skip turns off"},
+        {"--no-skip --no-start-pass", "--no-start-pass sets how empty space is skipped, which --no-skip turns off"},
+        {"--skip-bent-rays", "--skip-bent-rays is for --warp exact"},
         {"--filter tricubic --gradient central", "the tricubic filter always shades with B-spline normals"},
     };
     for (const auto& [given, reason] : pinholeCases) {

@@ -21,7 +21,7 @@ namespace {
 const std::map<std::string, std::size_t> kCppOffsets = {
     CVC_MEMBER(eyeMm),           CVC_MEMBER(nearMm),         CVC_MEMBER(wallOriginMm),
     CVC_MEMBER(stepMm),          CVC_MEMBER(wallUMm),        CVC_MEMBER(isoHu),
-    CVC_MEMBER(wallVMm),         CVC_MEMBER(refinementSteps), CVC_MEMBER(wallNormal),
+    CVC_MEMBER(wallVMm),         CVC_MEMBER(speedBoundCosReach), CVC_MEMBER(wallNormal),
     CVC_MEMBER(maxSteps),        CVC_MEMBER(mapCentreMm),    CVC_MEMBER(minStepMm),
     CVC_MEMBER(caveToVolume0),   CVC_MEMBER(maxStepMm),      CVC_MEMBER(caveToVolume1),
     CVC_MEMBER(radiansPerPixel), CVC_MEMBER(caveToVolume2),  CVC_MEMBER(opacityToStop),

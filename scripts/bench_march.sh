@@ -1,0 +1,137 @@
+#!/usr/bin/env bash
+# Usage: scripts/bench_march.sh [rounds] [output-folder]
+# The march loop's skipping, measured in one run with every variant alternated per round
+# (medians of `rounds`, default 5; ray-casting device time as `cvc render` prints it):
+#   1. the VTK yardstick (../shared/bench/vtk: 512x512x451 phantom, inside camera, 1024^2, iso
+#      -500 HU, 0.5-voxel step): VTK's CPU ray caster against cvc with skipping and the tile pass
+#      that starts rays past empty space, skipping without the pass, and no skipping; with the
+#      B-spline normals (a still's default) and central differences;
+#   2. the shared 3 mm abdominal CT inside its colon (docs/benchmarks.md's camera, 1024^2): with
+#      and without skipping at steps of 0.25, 0.5, 1 and 2 voxels;
+#   3. one stereo frame of the Immersive Cabin at the demo's polyp pose (colon phantom, polyp 3
+#      at 50 degrees, scale 4) with the exact warp, with and without skipping along bent rays,
+#      and with the chord warp;
+#   4. the yardstick's view in composite mode with our colon-wall transfer function, given to
+#      VTK too (scripts/bench_raycaster.py's VTK worker: the same preset, opacity per mm), and
+#      to cvc with and without skipping;
+# and, once, the sampling efficiency: `cvc render --stats` on the yardstick against the
+# plain-trilinear ceiling of `cvc_bench ceiling` on the same volume.
+# Needs the cvc target built in build/, and for VTK python3-vtk9, python3-numpy and xvfb.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+rounds=${1:-5}
+out=${2:-out/bench_march}
+cvc=build/app/cvc
+mkdir -p "$out"
+[ -f "$out/phantom512.mhd" ] || /usr/bin/python3 ../shared/bench/vtk/make_phantom.py --out "$(cd "$out" && pwd)/phantom512" > /dev/null
+[ -f "$out/colon.nrrd" ] || "$cvc" phantom -o "$out/colon.nrrd" > /dev/null
+ct=../shared/data/ct/ts_example_abdomen_3mm.nrrd
+# The yardstick as NRRD too: the VTK worker of bench_raycaster.py reads NRRD.
+if [ ! -f "$out/phantom512.nrrd" ]; then
+  printf 'NRRD0004\ntype: short\ndimension: 3\nsizes: 512 512 451\nspacings: 0.7 0.7 0.8\nencoding: raw\nendian: little\n\n' \
+    > "$out/phantom512.nrrd"
+  cat "$out/phantom512.raw" >> "$out/phantom512.nrrd"
+fi
+echo "device: $("$cvc" render "$out/colon.nrrd" --size 8x8 --force -o "$out/probe.png" | sed -n 's/^rendered 8x8 on \(.*\): ray.*/\1/p')"
+echo "machine: $(nproc) cores, load average at the start $(cut -d' ' -f1-3 /proc/loadavg)"
+
+# Ray-casting milliseconds of one render (pinhole) or one stereo frame (display).
+cvc_ms() { "$cvc" render "$@" --force 2>/dev/null | sed -n 's/.*ray casting \([0-9.]*\) ms.*/\1/p' | tail -1; }
+yardstick() {
+  cvc_ms "$out/phantom512.mhd" --position 218.1386,207.6363,108.24 --look-at 216.0219,207.1811,148.24 --up 0,1,0 \
+    --fov 60 --size 1024x1024 --step 0.5 -o "$out/yardstick.png" "$@"
+}
+vtk_ms() {
+  xvfb-run -a -s "-screen 0 1280x1024x24" /usr/bin/python3 ../shared/bench/vtk/render.py \
+    --volume "$out/phantom512.mhd" --mapper cpu --mode iso --camera-json "$out/phantom512.json" --camera inside \
+    --width 1024 --height 1024 --sample-distance 0.5 --png "$out/vtk.png" 2>/dev/null |
+    /usr/bin/python3 -c 'import json, sys; print(1000 * json.loads(sys.stdin.read().strip().splitlines()[-1])["median_s"])'
+  # VTK renders a volume whose data file it cannot find as empty space, fast: refuse a black image.
+  /usr/bin/python3 -c 'import sys; from PIL import Image; sys.exit(Image.open(sys.argv[1]).getextrema()[0][1] == 0)' \
+    "$out/vtk.png" || { echo "bench_march: VTK's image is black (is $out/phantom512.raw readable?)" >&2; exit 1; }
+}
+ct_ms() {
+  cvc_ms "$ct" --position 150,240,231 --look-at 124.414,235.488,246 --up 0,0,1 --fov 90 --size 1024x1024 \
+    --iso -500 -o "$out/ct.png" "$@"
+}
+vtk_composite_ms() {
+  cat > "$out/vtk_composite_job.json" <<JOB
+{"volume": "$out/phantom512.nrrd", "threads": $(nproc),
+ "camera": {"position": "218.1386,207.6363,108.24", "look_at": "216.0219,207.1811,148.24", "up": "0,1,0",
+            "fov": 60, "size": "1024x1024"},
+ "tasks": [{"mode": "composite", "iso": -500, "step": 0.5, "step_mm": 0.35, "runs": 3,
+            "png": "$out/vtk_composite.png"}],
+ "result": "$out/vtk_composite.json"}
+JOB
+  xvfb-run -a -s "-screen 0 1280x1024x24" /usr/bin/python3 scripts/bench_raycaster.py --vtk-worker \
+    "$out/vtk_composite_job.json" > /dev/null 2>&1
+  /usr/bin/python3 -c 'import json, statistics, sys
+print(statistics.median(json.load(open(sys.argv[1]))["results"][0]["times_ms"]))' "$out/vtk_composite.json"
+}
+cabin_ms() {
+  cvc_ms "$out/colon.nrrd" --display ic5 --path "$out/colon.json" --polyp 3 --polyp-elevation 50 --scale 4 \
+    -o "$out/cabin" "$@"
+}
+
+declare -A times
+add() { times[$1]+="$2 "; }
+for ((r = 1; r <= rounds; ++r)); do
+  add vtk "$(vtk_ms)"
+  for gradient in bspline central; do
+    add "yard $gradient pass" "$(yardstick --iso -500 --gradient "$gradient")"
+    add "yard $gradient nopass" "$(yardstick --iso -500 --gradient "$gradient" --no-start-pass)"
+    add "yard $gradient noskip" "$(yardstick --iso -500 --gradient "$gradient" --no-skip)"
+  done
+  for step in 0.25 0.5 1 2; do
+    add "ct $step skip" "$(ct_ms --step "$step")"
+    add "ct $step noskip" "$(ct_ms --step "$step" --no-skip)"
+  done
+  add "cabin exact skip" "$(cabin_ms --warp exact --skip-bent-rays)"
+  add "cabin exact noskip" "$(cabin_ms --warp exact --no-skip)"
+  add "cabin chord" "$(cabin_ms)"
+  add "vtk composite" "$(vtk_composite_ms)"
+  add "yard composite skip" "$(yardstick --mode composite --tf colon-wall --gradient central)"
+  add "yard composite noskip" "$(yardstick --mode composite --tf colon-wall --gradient central --no-skip)"
+  echo "round $r of $rounds done (load average $(cut -d' ' -f1 /proc/loadavg))"
+done
+median() { printf '%s\n' $1 | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
+m() { median "${times[$1]}"; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a / b}'; }
+echo
+echo "| yardstick view (1024^2, 0.5 vx) | ms (median of $rounds) | runs | / VTK |"
+echo "|---|---:|---|---:|"
+echo "| VTK 9.1 CPU ray caster | $(m vtk) | ${times[vtk]}| 1.00 |"
+for gradient in bspline central; do
+  for v in pass nopass noskip; do
+    k="yard $gradient $v"
+    echo "| cvc, $gradient normals, $v | $(m "$k") | ${times[$k]}| $(ratio "$(m "$k")" "$(m vtk)") |"
+  done
+done
+echo
+echo "| 3 mm CT, step | skipping ms | no skipping ms | no skip / skip |"
+echo "|---:|---:|---:|---:|"
+for step in 0.25 0.5 1 2; do
+  echo "| $step vx | $(m "ct $step skip") | $(m "ct $step noskip") | $(ratio "$(m "ct $step noskip")" "$(m "ct $step skip")") |"
+done
+echo
+echo "| ic5 stereo frame, demo pose | ms | runs |"
+echo "|---|---:|---|"
+for k in "cabin exact skip" "cabin exact noskip" "cabin chord"; do echo "| $k | $(m "$k") | ${times[$k]}|"; done
+echo
+echo "| yardstick view, composite, colon-wall (1024^2, 0.5 vx) | ms | runs | / VTK |"
+echo "|---|---:|---|---:|"
+echo "| VTK 9.1 CPU ray caster | $(m "vtk composite") | ${times[vtk composite]}| 1.00 |"
+for v in skip noskip; do
+  k="yard composite $v"
+  echo "| cvc, central normals, $v | $(m "$k") | ${times[$k]}| $(ratio "$(m "$k")" "$(m "vtk composite")") |"
+done
+echo
+ceiling=$(build/bench/cvc_bench ceiling "$out/phantom512.mhd" --size 1024 --steps 100 --runs 5 2>/dev/null | tail -1)
+echo "ceiling: $ceiling"
+for extra in "--iso -500 --gradient central" "--iso -500 --gradient central --no-skip" "--mode composite --tf colon-wall --gradient central"; do
+  # shellcheck disable=SC2086
+  echo "stats ($extra): $("$cvc" render "$out/phantom512.mhd" --position 218.1386,207.6363,108.24 \
+    --look-at 216.0219,207.1811,148.24 --up 0,1,0 --fov 60 --size 1024x1024 --step 0.5 $extra --stats --force \
+    -o "$out/stats.png" 2>&1 | grep -E 'fetches per ray' | tail -1)"
+done
+echo "load average at the end $(cut -d' ' -f1-3 /proc/loadavg)"
