@@ -88,10 +88,12 @@ SpeedBoundMap speedBoundMap(int size, std::span<const float> rgba, int coarseSiz
     const double shortest = std::cos(std::min(0.5 * std::sqrt(2.0) * widestSceneAngle, 1.5));
     const double factor = std::sqrt(2.0) / std::max(shortest, 0.07);
 
-    // Coarse cells: the largest fine speed in each, its centre direction and angular radius.
+    // Coarse cells: the largest fine speed in each and its centre direction; the widest angle a
+    // cell spans (twice the largest centre-to-corner angle).
     const std::size_t cells = 6u * static_cast<std::size_t>(g) * static_cast<std::size_t>(g);
-    std::vector<double> cellSpeed(cells, 0.0), cellRadius(cells, 0.0);
+    std::vector<double> cellSpeed(cells, 0.0);
     std::vector<glm::dvec3> cellCentre(cells);
+    double widestCell = 0.0;
     for (int face = 0; face < 6; ++face) {
         for (int j = 0; j < n; ++j) {
             for (int i = 0; i < n; ++i) {
@@ -106,13 +108,11 @@ SpeedBoundMap speedBoundMap(int size, std::span<const float> rgba, int coarseSiz
                 for (int corner = 0; corner < 4; ++corner) {
                     const glm::dvec3 c = glm::normalize(
                         directionFromCubeFace(face, (ci + (corner & 1)) / double(g), (cj + (corner >> 1)) / double(g)));
-                    cellRadius[cell] = std::max(cellRadius[cell], std::acos(std::clamp(glm::dot(c, cellCentre[cell]), -1.0, 1.0)));
+                    widestCell = std::max(widestCell, 2.0 * std::acos(std::clamp(glm::dot(c, cellCentre[cell]), -1.0, 1.0)));
                 }
             }
         }
     }
-    double widestCell = 0.0;
-    for (double radius : cellRadius) widestCell = std::max(widestCell, 2.0 * radius);
     // A bilinear lookup at d mixes cells whose centres lie within a cell's width of d: each
     // cell's bound covers its own directions and a reach plus two cell widths beyond them.
     const double reach = kSpeedBoundReachRadians + 2.0 * widestCell;

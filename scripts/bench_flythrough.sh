@@ -20,9 +20,8 @@ with_vtk=${3:-}
 cvc=build/app/cvc
 mkdir -p "$out"
 [ -f "$out/colon.nrrd" ] || "$cvc" phantom -o "$out/colon.nrrd" > /dev/null
-if [ "$with_vtk" != --no-vtk ] && [ ! -f "$out/phantom512.mhd" ]; then
-  /usr/bin/python3 ../shared/bench/vtk/make_phantom.py --out "$(cd "$out" && pwd)/phantom512" > /dev/null
-fi
+source scripts/bench_yardstick.sh
+[ "$with_vtk" = --no-vtk ] || yardstick_phantom "$out"
 echo "device: $("$cvc" render "$out/colon.nrrd" --size 8x8 --force -o "$out/probe.png" | sed -n 's/^rendered 8x8 on \(.*\): ray.*/\1/p')"
 echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 
@@ -33,14 +32,11 @@ flythrough() {
            -o "$out/frames_$1" 2>/dev/null | grep '^rendered')
   echo "$(echo "$line" | sed -n 's/.* in \([0-9.]*\) s,.*/\1/p') $(echo "$line" | sed -n 's/.*ray casting \([0-9.]*\) ms.*/\1/p')"
 }
+# VTK's seconds for its view; a black VTK image stops the script (through `v=$(vtk)`).
 vtk() {
-  xvfb-run -a -s "-screen 0 1280x1024x24" /usr/bin/python3 ../shared/bench/vtk/render.py \
-    --volume "$out/phantom512.mhd" --mapper cpu --mode iso --camera-json "$out/phantom512.json" --camera inside \
-    --width 1024 --height 1024 --sample-distance 0.5 --png "$out/vtk.png" 2>/dev/null |
-    /usr/bin/python3 -c 'import json, sys; print(json.loads(sys.stdin.read().strip().splitlines()[-1])["median_s"])'
-  # VTK renders a volume whose data file it cannot find as empty space, fast: refuse a black image.
-  /usr/bin/python3 -c 'import sys; from PIL import Image; sys.exit(Image.open(sys.argv[1]).getextrema()[0][1] == 0)' \
-    "$out/vtk.png" || { echo "bench_flythrough: VTK's image is black (is $out/phantom512.raw readable?)" >&2; exit 1; }
+  local ms
+  ms=$(vtk_yardstick_ms "$(cd "$out" && pwd)") || exit 1
+  awk -v ms="$ms" 'BEGIN {printf "%.3f", ms / 1000}'
 }
 
 marginals=() devices=() vtks=()

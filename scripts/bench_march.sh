@@ -5,9 +5,10 @@
 #   1. the VTK yardstick (../shared/bench/vtk: 512x512x451 phantom, inside camera, 1024^2, iso
 #      -500 HU, 0.5-voxel step): VTK's CPU ray caster against cvc with skipping and the tile pass
 #      that starts rays past empty space, skipping without the pass, and no skipping; with the
-#      B-spline normals (a still's default) and central differences;
+#      B-spline normals (a still's default) and central differences; and with central
+#      differences, 6 bisection steps instead of the default 2, and 1-voxel skipping cells;
 #   2. the shared 3 mm abdominal CT inside its colon (docs/benchmarks.md's camera, 1024^2): with
-#      and without skipping at steps of 0.25, 0.5, 1 and 2 voxels;
+#      and without skipping, and with 1-voxel cells, at steps of 0.25, 0.5, 1 and 2 voxels;
 #   3. one stereo frame of the Immersive Cabin at the demo's polyp pose (colon phantom, polyp 3
 #      at 50 degrees, scale 4) with the exact warp, with and without skipping along bent rays,
 #      and with the chord warp;
@@ -23,7 +24,8 @@ rounds=${1:-5}
 out=${2:-out/bench_march}
 cvc=build/app/cvc
 mkdir -p "$out"
-[ -f "$out/phantom512.mhd" ] || /usr/bin/python3 ../shared/bench/vtk/make_phantom.py --out "$(cd "$out" && pwd)/phantom512" > /dev/null
+source scripts/bench_yardstick.sh
+yardstick_phantom "$out"
 [ -f "$out/colon.nrrd" ] || "$cvc" phantom -o "$out/colon.nrrd" > /dev/null
 ct=../shared/data/ct/ts_example_abdomen_3mm.nrrd
 # The yardstick as NRRD too: the VTK worker of bench_raycaster.py reads NRRD.
@@ -37,19 +39,8 @@ echo "machine: $(nproc) cores, load average at the start $(cut -d' ' -f1-3 /proc
 
 # Ray-casting milliseconds of one render (pinhole) or one stereo frame (display).
 cvc_ms() { "$cvc" render "$@" --force 2>/dev/null | sed -n 's/.*ray casting \([0-9.]*\) ms.*/\1/p' | tail -1; }
-yardstick() {
-  cvc_ms "$out/phantom512.mhd" --position 218.1386,207.6363,108.24 --look-at 216.0219,207.1811,148.24 --up 0,1,0 \
-    --fov 60 --size 1024x1024 --step 0.5 -o "$out/yardstick.png" "$@"
-}
-vtk_ms() {
-  xvfb-run -a -s "-screen 0 1280x1024x24" /usr/bin/python3 ../shared/bench/vtk/render.py \
-    --volume "$out/phantom512.mhd" --mapper cpu --mode iso --camera-json "$out/phantom512.json" --camera inside \
-    --width 1024 --height 1024 --sample-distance 0.5 --png "$out/vtk.png" 2>/dev/null |
-    /usr/bin/python3 -c 'import json, sys; print(1000 * json.loads(sys.stdin.read().strip().splitlines()[-1])["median_s"])'
-  # VTK renders a volume whose data file it cannot find as empty space, fast: refuse a black image.
-  /usr/bin/python3 -c 'import sys; from PIL import Image; sys.exit(Image.open(sys.argv[1]).getextrema()[0][1] == 0)' \
-    "$out/vtk.png" || { echo "bench_march: VTK's image is black (is $out/phantom512.raw readable?)" >&2; exit 1; }
-}
+yardstick() { cvc_ms "$out/phantom512.mhd" "${yardstick_inside[@]}" --step 0.5 -o "$out/yardstick.png" "$@"; }
+vtk_ms() { vtk_yardstick_ms "$(cd "$out" && pwd)"; }
 ct_ms() {
   cvc_ms "$ct" --position 150,240,231 --look-at 124.414,235.488,246 --up 0,0,1 --fov 90 --size 1024x1024 \
     --iso -500 -o "$out/ct.png" "$@"
@@ -76,20 +67,25 @@ cabin_ms() {
 declare -A times
 add() { times[$1]+="$2 "; }
 for ((r = 1; r <= rounds; ++r)); do
-  add vtk "$(vtk_ms)"
+  v=$(vtk_ms)  # an assignment, so that a black VTK image stops the script
+  add vtk "$v"
   for gradient in bspline central; do
     add "yard $gradient pass" "$(yardstick --iso -500 --gradient "$gradient")"
     add "yard $gradient nopass" "$(yardstick --iso -500 --gradient "$gradient" --no-start-pass)"
     add "yard $gradient noskip" "$(yardstick --iso -500 --gradient "$gradient" --no-skip)"
   done
+  add "yard central refine6" "$(yardstick --iso -500 --gradient central --refine 6)"
+  add "yard central cell1" "$(yardstick --iso -500 --gradient central --skip-cell 1)"
   for step in 0.25 0.5 1 2; do
     add "ct $step skip" "$(ct_ms --step "$step")"
     add "ct $step noskip" "$(ct_ms --step "$step" --no-skip)"
+    add "ct $step cell1" "$(ct_ms --step "$step" --skip-cell 1)"
   done
   add "cabin exact skip" "$(cabin_ms --warp exact --skip-bent-rays)"
   add "cabin exact noskip" "$(cabin_ms --warp exact --no-skip)"
   add "cabin chord" "$(cabin_ms)"
-  add "vtk composite" "$(vtk_composite_ms)"
+  v=$(vtk_composite_ms)
+  add "vtk composite" "$v"
   add "yard composite skip" "$(yardstick --mode composite --tf colon-wall --gradient central)"
   add "yard composite noskip" "$(yardstick --mode composite --tf colon-wall --gradient central --no-skip)"
   echo "round $r of $rounds done (load average $(cut -d' ' -f1 /proc/loadavg))"
@@ -107,11 +103,16 @@ for gradient in bspline central; do
     echo "| cvc, $gradient normals, $v | $(m "$k") | ${times[$k]}| $(ratio "$(m "$k")" "$(m vtk)") |"
   done
 done
+for v in refine6 cell1; do
+  k="yard central $v"
+  echo "| cvc, central normals, pass, $v | $(m "$k") | ${times[$k]}| $(ratio "$(m "$k")" "$(m vtk)") |"
+done
 echo
-echo "| 3 mm CT, step | skipping ms | no skipping ms | no skip / skip |"
-echo "|---:|---:|---:|---:|"
+echo "| 3 mm CT, step | skipping ms | no skipping ms | no skip / skip | 1-voxel cells ms | no skip / 1-voxel cells |"
+echo "|---:|---:|---:|---:|---:|---:|"
 for step in 0.25 0.5 1 2; do
-  echo "| $step vx | $(m "ct $step skip") | $(m "ct $step noskip") | $(ratio "$(m "ct $step noskip")" "$(m "ct $step skip")") |"
+  echo "| $step vx | $(m "ct $step skip") | $(m "ct $step noskip") | $(ratio "$(m "ct $step noskip")" "$(m "ct $step skip")") |" \
+       "$(m "ct $step cell1") | $(ratio "$(m "ct $step noskip")" "$(m "ct $step cell1")") |"
 done
 echo
 echo "| ic5 stereo frame, demo pose | ms | runs |"
@@ -130,8 +131,7 @@ ceiling=$(build/bench/cvc_bench ceiling "$out/phantom512.mhd" --size 1024 --step
 echo "ceiling: $ceiling"
 for extra in "--iso -500 --gradient central" "--iso -500 --gradient central --no-skip" "--mode composite --tf colon-wall --gradient central"; do
   # shellcheck disable=SC2086
-  echo "stats ($extra): $("$cvc" render "$out/phantom512.mhd" --position 218.1386,207.6363,108.24 \
-    --look-at 216.0219,207.1811,148.24 --up 0,1,0 --fov 60 --size 1024x1024 --step 0.5 $extra --stats --force \
-    -o "$out/stats.png" 2>&1 | grep -E 'fetches per ray' | tail -1)"
+  echo "stats ($extra): $("$cvc" render "$out/phantom512.mhd" "${yardstick_inside[@]}" --step 0.5 $extra --stats \
+    --force -o "$out/stats.png" 2>&1 | grep -E 'fetches per ray' | tail -1)"
 done
 echo "load average at the end $(cut -d' ' -f1-3 /proc/loadavg)"

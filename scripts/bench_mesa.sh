@@ -26,11 +26,10 @@ fi
 installed_icd=$(ls /usr/share/vulkan/icd.d/lvp_icd*.json | head -1)
 declare -A icd=([installed]="$installed_icd" [release]="$unpacked/lvp_icd.json")
 
-[ -f "$out/phantom512.mhd" ] || /usr/bin/python3 ../shared/bench/vtk/make_phantom.py --out "$(cd "$out" && pwd)/phantom512" >/dev/null
+source scripts/bench_yardstick.sh
+yardstick_phantom "$out"
 [ -f "$out/colon.nrrd" ] || "$cvc" phantom -o "$out/colon.nrrd" > /dev/null
-# The yardstick's inside camera, as ../shared/bench/vtk/README.md gives it.
-inside=(--position 218.1386,207.6363,108.24 --look-at 216.0219,207.1811,148.24 --up 0,1,0 --fov 60 --size 1024x1024
-        --iso -500 --step 0.5)
+inside=("${yardstick_inside[@]}" --iso -500 --step 0.5)
 
 echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 for driver in installed release; do

@@ -694,7 +694,7 @@ def write_report(path, meta, scenes, results, warp, eff, vtk, args):
         "positions of the two images where both rays hit (mean and 95th percentile, mm) plus the fraction of pixels "
         "where only one of them hits. In composite mode the hit is where opacity first reaches 0.5.")
     add("- Settings swept: step (voxels), filter (trilinear `lin`, tricubic `cubic`), empty-space skipping "
-        "(`noskip` = off), adaptive step (`adapt`), and in iso mode the bisection steps (`rN`, default 6). "
+        "(`noskip` = off), adaptive step (`adapt`), and in iso mode the bisection steps (`rN`; rows without it use 6). "
         "The composite mode's early-termination threshold is not a `cvc render` option (fixed at 0.98), so it "
         "is **not swept**.")
     add("- Commands (per point): `build/app/cvc render VOLUME --position P --look-at A --up U --fov 90 --size "

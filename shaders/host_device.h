@@ -40,6 +40,8 @@ using uint = std::uint32_t;
 #define CVC_SPEC_CHORD_TABLE 7 // CVC_CHORD_TABLE_*: where chord mode gets its cube-map texels
 #define CVC_SPEC_RAY_START 8   // CVC_RAY_START_*: the tile pass that skips empty space before marching
 #define CVC_SPEC_REFINEMENT 9  // iso mode: bisection steps of a hit (a constant loop bound unrolls)
+#define CVC_SPEC_JITTER 10     // 1: offset each ray's first sample by a hash of pixel and RaycastUniforms::jitterSeed
+#define CVC_SPEC_HIT_OUTPUT 11 // CVC_HIT_OUTPUT_*: what the hit image receives
 
 #define CVC_MODE_ISO 0
 #define CVC_MODE_COMPOSITE 1
@@ -64,13 +66,13 @@ using uint = std::uint32_t;
 #define CVC_RAY_START_READ 1  // rays start at their tile's entry of the ray-start table
 #define CVC_RAY_START_FILL 2  // the tile pass: write the table; no ray is marched
 
-// Bits of RaycastUniforms::flags
-#define CVC_FLAG_WRITE_HITS 1u
-#define CVC_FLAG_JITTER 2u
-#define CVC_FLAG_WRITE_NORMALS 4u  // the hit image holds the shading normal (xyz) instead of the position
-// Tests: the hit image holds ray parameters instead of the position: x the ray's own start, y its
-// start after the tile pass, z the first sample that contributes (iso: the refined hit), w hit.
-#define CVC_FLAG_WRITE_RAY_STARTS 8u
+// The hit image, per pixel: xyz as below, w 1 where the ray hit (0 where it missed).
+#define CVC_HIT_OUTPUT_NONE 0      // no hit image is written
+#define CVC_HIT_OUTPUT_POSITION 1  // the first hit's position, volume mm
+#define CVC_HIT_OUTPUT_NORMAL 2    // tests: the shading normal at the first hit
+// Tests: ray parameters instead of the position: x the ray's own start, y its start after the
+// tile pass, z the first sample that contributes (iso: the refined hit).
+#define CVC_HIT_OUTPUT_RAY_STARTS 3
 
 // Work-group size of the image-space shaders (pixels per group along x and y).
 #define CVC_TILE_SIZE 8
@@ -100,7 +102,7 @@ struct RaycastUniforms {
     vec3 invSpacingMm;     float lightFalloffPerMm2;  // 1 / spacing; headlight falloff 1 / half distance^2
     // Shading (Cook-Torrance) and the frame
     float roughness;       float fresnelF0;         float ambient;           float chordReachMm;  // a bent ray's far end lies this far beyond the near plane and the eye's offset from c
-    uvec2 imageSize;       uint jitterSeed;         uint flags;              // CVC_FLAG_* bits
+    uvec2 imageSize;       uint jitterSeed;         uint padding;            // fills the 16-byte slot
 };
 
 #ifdef __cplusplus

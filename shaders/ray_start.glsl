@@ -40,14 +40,15 @@ void writeTileStart(uvec2 tile) {
     if (tile.x >= tiles.x || tile.y >= tiles.y) return;
     uvec2 first = tile * CVC_TILE_SIZE;
     uvec2 last = min(first + CVC_TILE_SIZE, u.imageSize) - 1u;
-    Segment reference = segmentForPixel((first + last) / 2u);
+    uvec2 centre = (first + last) / 2u;
+    Segment reference = segmentForPixel(centre);
     float alpha = 0.0;
     float beta = 0.0;
     float tFrom = 3.0e38;
     float tTo = -3.0e38;
     for (uint y = first.y; y <= last.y; ++y) {
         for (uint x = first.x; x <= last.x; ++x) {
-            Segment s = segmentForPixel(uvec2(x, y));
+            Segment s = uvec2(x, y) == centre ? reference : segmentForPixel(uvec2(x, y));
             if (s.tStart >= s.tEnd) continue;
             alpha = max(alpha, length(s.origin - reference.origin));
             beta = max(beta, length(s.dir - reference.dir));

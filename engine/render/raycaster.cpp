@@ -164,6 +164,16 @@ void Raycaster::setSpeedBounds(int size, std::span<const float> rgba) {
     mHasSpeedBounds = true;
 }
 
+namespace {
+// What the hit image receives (CVC_HIT_OUTPUT_*): the tests' ray parameters or normals in
+// place of the positions, and nothing where no hit image is asked for.
+int32_t hitOutputOf(const RenderSettings& settings) {
+    if (!settings.isWritingHits) return CVC_HIT_OUTPUT_NONE;
+    if (settings.isWritingRayStarts) return CVC_HIT_OUTPUT_RAY_STARTS;
+    return settings.isWritingNormals ? CVC_HIT_OUTPUT_NORMAL : CVC_HIT_OUTPUT_POSITION;
+}
+}  // namespace
+
 ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode warp, int chordTable, int rayStart) {
     const int32_t mode = settings.mode == RenderMode::Composite ? CVC_MODE_COMPOSITE : CVC_MODE_ISO;
     const int32_t filter = settings.filter == VolumeFilter::Tricubic ? CVC_FILTER_TRICUBIC : CVC_FILTER_TRILINEAR;
@@ -173,13 +183,18 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
     const int32_t refinement = mode == CVC_MODE_ISO ? settings.refinementSteps : 0;
     // Exact-warped rays skip only when asked to (RenderSettings::isSkippingBentRays).
     const bool isSkipping = settings.isSkipping && (warp != WarpMode::Exact || settings.isSkippingBentRays);
+    // Features every ray of a dispatch takes alike are constants too: the compiler drops the
+    // code of those a pipeline does not use, and no per-ray test of a uniform flag remains.
+    const int32_t jitter = settings.isJittered ? 1 : 0;
+    const int32_t hitOutput = hitOutputOf(settings);
     const PipelineKey key{mode, filter, warpId, isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0,
-                          settings.isCountingFetches ? 1 : 0, gradient, chordTable, rayStart, refinement};
+                          settings.isCountingFetches ? 1 : 0, gradient, chordTable, rayStart, refinement,
+                          jitter, hitOutput};
     auto& slot = mPipelines[key];
     if (!slot) {
-        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_REFINEMENT.
+        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_HIT_OUTPUT.
         const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key), gradient,
-                                     chordTable, rayStart, refinement};
+                                     chordTable, rayStart, refinement, jitter, hitOutput};
         slot = std::make_unique<ComputePipeline>(
             *mContext, raycast_spv, raycastDescriptorTypes(),
             0, "ray caster", constants, static_cast<uint32_t>(kMaxImagesInFlight));
@@ -190,10 +205,7 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
 ComputePipeline& Raycaster::rayStartFillPipelineFor(WarpMode warp, int chordTable) {
     // The pass builds each pixel's segment and reads the distance map; the other features do not
     // reach it, so one pipeline per warp and chord-table use serves every request.
-    RenderSettings settings;
-    settings.isSkipping = true;
-    settings.isAdaptive = false;
-    settings.isCountingFetches = false;
+    RenderSettings settings;  // skipping on, fixed step, no counting: the defaults
     return pipelineFor(settings, warp, chordTable, CVC_RAY_START_FILL);
 }
 
@@ -213,16 +225,16 @@ const SampledTexture& Raycaster::transferTextureFor(const RenderSettings& settin
     // A fixed step gets the table corrected for it (no power per sample); the adaptive step's
     // samples correct the reference opacities themselves.
     const bool isCorrected = settings.mode == RenderMode::Composite && !settings.isAdaptive;
+    const double stepMm = baseStepMm(settings);
     std::ostringstream key;
     key.precision(17);
     key << name;
-    if (isCorrected) key << '@' << baseStepMm(settings);
+    if (isCorrected) key << '@' << stepMm;
     auto found = mTransferTextures.find(key.str());
     if (found == mTransferTextures.end()) {
         const TransferTable& table = transferTableFor(name);
         found = mTransferTextures
-                    .emplace(key.str(), makeTransferTexture(*mContext, isCorrected ? correctedForStep(table, baseStepMm(settings))
-                                                                                   : table))
+                    .emplace(key.str(), makeTransferTexture(*mContext, isCorrected ? correctedForStep(table, stepMm) : table))
                     .first;
     }
     return found->second;
@@ -506,9 +518,6 @@ shaders::RaycastUniforms Raycaster::uniformsFor(const RenderRequest& request, co
     u.chordReachMm = f(farReachMm);
     u.imageSize = glm::uvec2(static_cast<uint32_t>(rays.width), static_cast<uint32_t>(rays.height));
     u.jitterSeed = settings.jitterSeed;
-    u.flags = (settings.isWritingHits ? CVC_FLAG_WRITE_HITS : 0u) | (settings.isJittered ? CVC_FLAG_JITTER : 0u) |
-              (settings.isWritingNormals ? CVC_FLAG_WRITE_NORMALS : 0u) |
-              (settings.isWritingRayStarts ? CVC_FLAG_WRITE_RAY_STARTS : 0u);
     return u;
 }
 

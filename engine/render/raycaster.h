@@ -109,7 +109,7 @@ private:
         RenderRequest canonical;
         double canonicalReachMm = 0.0;
     };
-    using PipelineKey = std::tuple<int, int, int, int, int, int, int, int, int, int>;
+    using PipelineKey = std::tuple<int, int, int, int, int, int, int, int, int, int, int, int>;
 
     void validateRequest(const RenderRequest& request) const;
     void recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex,

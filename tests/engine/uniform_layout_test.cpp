@@ -17,7 +17,8 @@ namespace {
 
 #define CVC_MEMBER(name) {"u." #name, offsetof(shaders::RaycastUniforms, name)}
 
-// Every member of the uniform block; the shader reads each one.
+// Every member of the uniform block that the shader reads: all but the trailing padding, which
+// the block size below covers.
 const std::map<std::string, std::size_t> kCppOffsets = {
     CVC_MEMBER(eyeMm),           CVC_MEMBER(nearMm),         CVC_MEMBER(wallOriginMm),
     CVC_MEMBER(stepMm),          CVC_MEMBER(wallUMm),        CVC_MEMBER(isoHu),
@@ -30,7 +31,7 @@ const std::map<std::string, std::size_t> kCppOffsets = {
     CVC_MEMBER(texFromMmOffset), CVC_MEMBER(transferHalfEntry), CVC_MEMBER(volumeDims),
     CVC_MEMBER(skipCellVoxels),  CVC_MEMBER(invSpacingMm),   CVC_MEMBER(lightFalloffPerMm2),
     CVC_MEMBER(roughness),       CVC_MEMBER(fresnelF0),      CVC_MEMBER(ambient),         CVC_MEMBER(chordReachMm),
-    CVC_MEMBER(imageSize),       CVC_MEMBER(jitterSeed),     CVC_MEMBER(flags),
+    CVC_MEMBER(imageSize),       CVC_MEMBER(jitterSeed),
 };
 
 #undef CVC_MEMBER
