@@ -12,7 +12,8 @@ namespace {
 /// Min/max over the apron-widened brick windows along one axis of a 3D array.
 ///
 /// `in` has extents (n0, n1, n2) with the reduced axis `axis`; the output has the same
-/// extents except ceil(n_axis / 8) along `axis`. Window b covers [8b - 1, 8b + 8] clamped.
+/// extents except ceil(n_axis / s) along `axis` (s = brickSize). Window b covers
+/// [s b - 1, s b + s] clamped: the brick and the one-voxel apron trilinear filtering reads.
 void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& inMax, std::array<int, 3> extents,
                 int axis, int brickSize, std::vector<int16_t>& outMin, std::vector<int16_t>& outMax) {
     const int n = extents[static_cast<std::size_t>(axis)];
@@ -24,38 +25,51 @@ void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& i
     outMin.assign(outCount, 0);
     outMax.assign(outCount, 0);
 
-    // Strides of the reduced axis in input and output; lines run along it.
-    const std::size_t inStride = axis == 0   ? 1
-                                 : axis == 1 ? static_cast<std::size_t>(extents[0])
-                                             : static_cast<std::size_t>(extents[0]) * extents[1];
-    const std::size_t outStride = axis == 0   ? 1
-                                  : axis == 1 ? static_cast<std::size_t>(outExtents[0])
-                                              : static_cast<std::size_t>(outExtents[0]) * outExtents[1];
-    const std::array<int, 3> lineExtents{axis == 0 ? 1 : extents[0], axis == 1 ? 1 : extents[1],
-                                         axis == 2 ? 1 : extents[2]};
-    // Planes of lines are independent: one per parallel item.
-    parallelFor(lineExtents[2], [&](int c) {
-        for (int b = 0; b < lineExtents[1]; ++b) {
-            for (int a = 0; a < lineExtents[0]; ++a) {
-                const std::size_t inBase = static_cast<std::size_t>(a) +
-                                           static_cast<std::size_t>(extents[0]) *
-                                               (static_cast<std::size_t>(b) + static_cast<std::size_t>(extents[1]) * c);
-                const std::size_t outBase =
-                    static_cast<std::size_t>(a) +
-                    static_cast<std::size_t>(outExtents[0]) *
-                        (static_cast<std::size_t>(b) + static_cast<std::size_t>(outExtents[1]) * c);
-                for (int brick = 0; brick < bricks; ++brick) {
-                    const int first = std::max(brick * brickSize - 1, 0);
-                    const int last = std::min(brick * brickSize + brickSize, n - 1);
-                    int16_t lo = std::numeric_limits<int16_t>::max(), hi = std::numeric_limits<int16_t>::min();
-                    for (int v = first; v <= last; ++v) {
-                        const std::size_t at = inBase + static_cast<std::size_t>(v) * inStride;
-                        lo = std::min(lo, inMin[at]);
-                        hi = std::max(hi, inMax[at]);
-                    }
-                    outMin[outBase + static_cast<std::size_t>(brick) * outStride] = lo;
-                    outMax[outBase + static_cast<std::size_t>(brick) * outStride] = hi;
+    if (axis != 0) {
+        // Along y or z the data are rows of `inner` contiguous values, n rows per block of
+        // `outer`: each output row is the min/max of its window's input rows, read and written
+        // contiguously (a strided walk along the axis was most of a 1-voxel-cell build).
+        const std::size_t inner = axis == 1 ? static_cast<std::size_t>(extents[0])
+                                            : static_cast<std::size_t>(extents[0]) * extents[1];
+        const int outer = axis == 1 ? extents[2] : 1;
+        parallelFor(outer * bricks, [&](int item) {
+            const auto block = static_cast<std::size_t>(item / bricks);
+            const int brick = item % bricks;
+            const int first = std::max(brick * brickSize - 1, 0);
+            const int last = std::min(brick * brickSize + brickSize, n - 1);
+            int16_t* lo = outMin.data() + (block * bricks + static_cast<std::size_t>(brick)) * inner;
+            int16_t* hi = outMax.data() + (block * bricks + static_cast<std::size_t>(brick)) * inner;
+            std::fill_n(lo, inner, std::numeric_limits<int16_t>::max());
+            std::fill_n(hi, inner, std::numeric_limits<int16_t>::min());
+            for (int v = first; v <= last; ++v) {
+                const std::size_t row = (block * static_cast<std::size_t>(n) + static_cast<std::size_t>(v)) * inner;
+                const int16_t* rowMin = inMin.data() + row;
+                const int16_t* rowMax = inMax.data() + row;
+                for (std::size_t i = 0; i < inner; ++i) {
+                    lo[i] = std::min(lo[i], rowMin[i]);
+                    hi[i] = std::max(hi[i], rowMax[i]);
                 }
+            }
+        });
+        return;
+    }
+
+    // Along x, lines are contiguous: one z plane of lines per parallel item.
+    parallelFor(extents[2], [&](int z) {
+        for (int y = 0; y < extents[1]; ++y) {
+            const std::size_t line = static_cast<std::size_t>(y) + static_cast<std::size_t>(extents[1]) * z;
+            const int16_t* lineMin = inMin.data() + line * static_cast<std::size_t>(n);
+            const int16_t* lineMax = inMax.data() + line * static_cast<std::size_t>(n);
+            for (int brick = 0; brick < bricks; ++brick) {
+                const int first = std::max(brick * brickSize - 1, 0);
+                const int last = std::min(brick * brickSize + brickSize, n - 1);
+                int16_t lo = std::numeric_limits<int16_t>::max(), hi = std::numeric_limits<int16_t>::min();
+                for (int v = first; v <= last; ++v) {
+                    lo = std::min(lo, lineMin[v]);
+                    hi = std::max(hi, lineMax[v]);
+                }
+                outMin[line * static_cast<std::size_t>(bricks) + static_cast<std::size_t>(brick)] = lo;
+                outMax[line * static_cast<std::size_t>(bricks) + static_cast<std::size_t>(brick)] = hi;
             }
         }
     });

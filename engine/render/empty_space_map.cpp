@@ -1,9 +1,55 @@
 #include "engine/render/empty_space_map.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <stdexcept>
 
+#include "volumes/parallel_for.h"
+
 namespace engine {
+namespace {
+
+// Distances are capped at kMaxSkipDistance at every stage, which leaves the capped result exact:
+// a term the cap lowered was at least the cap, so it can lower no total below the cap.
+constexpr int kCap = kMaxSkipDistance;
+
+// One line of the second and third passes (Meijster, Roerdink and Hesselink, "A general algorithm
+// for computing distance transforms in linear time", 2000, chessboard metric): given g, the
+// distance already known within the line's orthogonal plane, writes
+// out[x] = min over i of max(|x - i|, g[i]) in linear time. The lower envelope of the functions
+// f_i(x) = max(|x - i|, g[i]) is built left to right: `owner` holds the indices whose function is
+// lowest on a segment, `from` where that segment starts.
+void chessboardLine(const int* g, int* out, int count, int* owner, int* from) {
+    const auto f = [g](int x, int i) { return std::max(std::abs(x - i), g[i]); };
+    // For i < u, the last x at which f_i <= f_u still holds (the paper's Sep for this metric):
+    // from there on f_u is the lower one.
+    const auto separation = [g](int i, int u) {
+        return g[i] <= g[u] ? std::max(i + g[u], (i + u) / 2) : std::min(u - g[i], (i + u) / 2);
+    };
+    int top = 0;
+    owner[0] = 0;
+    from[0] = 0;
+    for (int u = 1; u < count; ++u) {
+        while (top >= 0 && f(from[top], owner[top]) > f(from[top], u)) --top;
+        if (top < 0) {
+            top = 0;
+            owner[0] = u;
+        } else {
+            const int start = 1 + separation(owner[top], u);
+            if (start < count) {
+                ++top;
+                owner[top] = u;
+                from[top] = start;
+            }
+        }
+    }
+    for (int x = count - 1; x >= 0; --x) {
+        out[x] = std::min(f(x, owner[top]), kCap);
+        if (x == from[top]) --top;
+    }
+}
+
+}  // namespace
 
 std::vector<uint8_t> chebyshevDistanceMap(const std::vector<uint8_t>& isOccupied, const std::array<int, 3>& dims) {
     const std::size_t count = static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) *
@@ -11,41 +57,55 @@ std::vector<uint8_t> chebyshevDistanceMap(const std::vector<uint8_t>& isOccupied
     if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1 || isOccupied.size() != count) {
         throw std::invalid_argument("distance map: occupancy does not match the grid");
     }
+    const int nx = dims[0], ny = dims[1], nz = dims[2];
+    const std::size_t sliceSize = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
     std::vector<uint8_t> d(count);
-    for (std::size_t i = 0; i < count; ++i) d[i] = isOccupied[i] ? 0 : static_cast<uint8_t>(kMaxSkipDistance);
-    const auto index = [&](int x, int y, int z) {
-        return static_cast<std::size_t>(x) +
-               static_cast<std::size_t>(dims[0]) * (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims[1]) * z);
-    };
-    // One pass relaxes each cell from its 13 neighbours that come earlier in the pass's order.
-    const auto pass = [&](int direction) {
-        const int x0 = direction > 0 ? 0 : dims[0] - 1, x1 = direction > 0 ? dims[0] : -1;
-        const int y0 = direction > 0 ? 0 : dims[1] - 1, y1 = direction > 0 ? dims[1] : -1;
-        const int z0 = direction > 0 ? 0 : dims[2] - 1, z1 = direction > 0 ? dims[2] : -1;
-        for (int z = z0; z != z1; z += direction) {
-            for (int y = y0; y != y1; y += direction) {
-                for (int x = x0; x != x1; x += direction) {
-                    int best = d[index(x, y, z)];
-                    if (best == 0) continue;
-                    for (int dz = -1; dz <= 0; ++dz) {
-                        for (int dy = -1; dy <= 1; ++dy) {
-                            for (int dx = -1; dx <= 1; ++dx) {
-                                // Earlier in raster order: a previous slice, or a previous row
-                                // of this slice, or the previous cell of this row.
-                                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
-                                const int nx = x + dx * direction, ny = y + dy * direction, nz = z + dz * direction;
-                                if (nx < 0 || ny < 0 || nz < 0 || nx >= dims[0] || ny >= dims[1] || nz >= dims[2]) continue;
-                                best = std::min(best, d[index(nx, ny, nz)] + 1);
-                            }
-                        }
-                    }
-                    d[index(x, y, z)] = static_cast<uint8_t>(std::min(best, kMaxSkipDistance));
-                }
+
+    // Passes 1 and 2, one z slice at a time: the distance along each x row (two scans), then the
+    // chessboard envelope along each y column of the slice.
+    volumes::parallelFor(nz, [&](int z) {
+        const std::size_t slice = static_cast<std::size_t>(z) * sliceSize;
+        std::vector<int> rows(sliceSize);
+        for (int y = 0; y < ny; ++y) {
+            int* row = rows.data() + static_cast<std::size_t>(y) * nx;
+            const uint8_t* occupied = isOccupied.data() + slice + static_cast<std::size_t>(y) * nx;
+            int last = kCap;
+            for (int x = 0; x < nx; ++x) row[x] = last = occupied[x] ? 0 : std::min(last + 1, kCap);
+            for (int x = nx - 2; x >= 0; --x) row[x] = std::min(row[x], row[x + 1] + 1);
+        }
+        std::vector<int> column(static_cast<std::size_t>(ny)), result(column.size()), owner(column.size()),
+            from(column.size());
+        for (int x = 0; x < nx; ++x) {
+            for (int y = 0; y < ny; ++y) column[static_cast<std::size_t>(y)] = rows[static_cast<std::size_t>(y) * nx + x];
+            chessboardLine(column.data(), result.data(), ny, owner.data(), from.data());
+            for (int y = 0; y < ny; ++y) {
+                d[slice + static_cast<std::size_t>(y) * nx + x] = static_cast<uint8_t>(result[static_cast<std::size_t>(y)]);
             }
         }
-    };
-    pass(+1);
-    pass(-1);
+    });
+
+    // Pass 3: the envelope along z, for a block of neighbouring x at a time (they share cache
+    // lines when the line is gathered and written back).
+    constexpr int kBlock = 16;
+    const int blocksPerRow = (nx + kBlock - 1) / kBlock;
+    volumes::parallelFor(ny * blocksPerRow, [&](int job) {
+        const int y = job / blocksPerRow;
+        const int x0 = (job % blocksPerRow) * kBlock;
+        const int width = std::min(kBlock, nx - x0);
+        std::vector<int> lines(static_cast<std::size_t>(kBlock) * nz), result(static_cast<std::size_t>(nz)),
+            owner(result.size()), from(result.size());
+        const std::size_t base = static_cast<std::size_t>(y) * nx + x0;
+        for (int z = 0; z < nz; ++z) {
+            const uint8_t* source = d.data() + base + static_cast<std::size_t>(z) * sliceSize;
+            for (int k = 0; k < width; ++k) lines[static_cast<std::size_t>(k) * nz + z] = source[k];
+        }
+        for (int k = 0; k < width; ++k) {
+            chessboardLine(lines.data() + static_cast<std::size_t>(k) * nz, result.data(), nz, owner.data(), from.data());
+            for (int z = 0; z < nz; ++z) {
+                d[base + static_cast<std::size_t>(z) * sliceSize + k] = static_cast<uint8_t>(result[static_cast<std::size_t>(z)]);
+            }
+        }
+    });
     return d;
 }
 
