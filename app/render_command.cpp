@@ -150,6 +150,9 @@ engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isD
     settings.gradient = gradient == "central" ? engine::GradientFilter::Central : engine::GradientFilter::BSpline;
     settings.isSkipping = !options.isSkippingOff;
     settings.isUsingRayStartPass = !options.isStartPassOff;
+    // The gradient volume pays for itself over many frames; a single still would spend longer
+    // computing it (1.2 s for the 512x512x451 yardstick here) than it saves (docs/benchmarks.md).
+    settings.isUsingGradientVolume = options.gradientVolume.empty() ? isDisplay : options.gradientVolume == "on";
     // Each default is chosen here, once; a value given is passed on as it is, so a bad one is
     // refused by the ray caster's checks instead of silently replaced.
     settings.lightHalfDistanceMm = options.lightHalfDistanceMm.value_or(isDisplay ? 25.0 : 0.0);
@@ -253,6 +256,12 @@ void addRenderCommand(CLI::App& program) {
                         "fetches per shaded sample) or central (of the trilinear interpolant: 6 fetches); default: "
                         "bspline for a pinhole view, central for display frames; tricubic always uses bspline")
         ->check(CLI::IsMember({"bspline", "central"}))->group(rendering);
+    command->add_option("--gradient-volume", options->gradientVolume,
+                        "on: shade with gradients read from a gradient volume computed once (1 fetch per shaded "
+                        "sample, 8 with bspline; 8 bytes of device memory a voxel); off: from the volume's own taps "
+                        "(6, or 48 with bspline); the same normals but for rounding (default: on for display frames, "
+                        "off for a pinhole view)")
+        ->check(CLI::IsMember({"on", "off"}))->group(rendering);
     command->add_flag("--no-skip", options->isSkippingOff, "Turn off empty-space skipping")->group(rendering);
     command->add_flag("--no-start-pass", options->isStartPassOff,
                       "Skip empty space in the march only, without the pass over 8x8 tiles that starts rays past it")

@@ -51,6 +51,7 @@ struct RenderOptions {
     std::string gradient;  // empty: bspline for a pinhole view, central for display frames
     bool isSkippingOff = false;
     bool isStartPassOff = false;
+    std::string gradientVolume;  // empty: on for display frames, off for a pinhole view
     engine::RenderSettings settings;
     std::optional<double> lightHalfDistanceMm;  // not given: none for a pinhole view, 25 mm for a display
     std::optional<double> stepVoxels;           // not given: 0.5 for a pinhole still, 1.0 for display frames

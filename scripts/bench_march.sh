@@ -5,7 +5,8 @@
 #   1. the VTK yardstick (../shared/bench/vtk: 512x512x451 phantom, inside camera, 1024^2, iso
 #      -500 HU, 0.5-voxel step): VTK's CPU ray caster against cvc with skipping and the tile pass
 #      that starts rays past empty space, skipping without the pass, and no skipping; with the
-#      B-spline normals (a still's default) and central differences; and with central
+#      B-spline normals (a still's default) and central differences, each also read from the
+#      gradient volume (--gradient-volume on, a display frame's default); and with central
 #      differences, 6 bisection steps instead of the default 2, and 1-voxel skipping cells;
 #   2. the shared 3 mm abdominal CT inside its colon (docs/benchmarks.md's camera, 1024^2): with
 #      and without skipping, and with 1-voxel cells, at steps of 0.25, 0.5, 1 and 2 voxels;
@@ -14,8 +15,9 @@
 #      and with the chord warp;
 #   4. the yardstick's view in composite mode with our colon-wall transfer function, given to
 #      VTK too (scripts/bench_raycaster.py's VTK worker: the same preset, opacity per mm), and
-#      to cvc with and without skipping;
-# and, once, the sampling efficiency: `cvc render --stats` on the yardstick against the
+#      to cvc with and without skipping, and with the gradient volume;
+# and, once, the end-to-end time of one still with and without the gradient volume (which is
+# computed before the first frame), and the sampling efficiency: `cvc render --stats` on the yardstick against the
 # plain-trilinear ceiling of `cvc_bench ceiling` on the same volume.
 # Needs the cvc target built in build/, and for VTK python3-vtk9, python3-numpy and xvfb.
 set -euo pipefail
@@ -71,6 +73,7 @@ for ((r = 1; r <= rounds; ++r)); do
   add vtk "$v"
   for gradient in bspline central; do
     add "yard $gradient pass" "$(yardstick --iso -500 --gradient "$gradient")"
+    add "yard $gradient pass+gv" "$(yardstick --iso -500 --gradient "$gradient" --gradient-volume on)"
     add "yard $gradient nopass" "$(yardstick --iso -500 --gradient "$gradient" --no-start-pass)"
     add "yard $gradient noskip" "$(yardstick --iso -500 --gradient "$gradient" --no-skip)"
   done
@@ -87,6 +90,7 @@ for ((r = 1; r <= rounds; ++r)); do
   v=$(vtk_composite_ms)
   add "vtk composite" "$v"
   add "yard composite skip" "$(yardstick --mode composite --tf colon-wall --gradient central)"
+  add "yard composite skip+gv" "$(yardstick --mode composite --tf colon-wall --gradient central --gradient-volume on)"
   add "yard composite noskip" "$(yardstick --mode composite --tf colon-wall --gradient central --no-skip)"
   echo "round $r of $rounds done (load average $(cut -d' ' -f1 /proc/loadavg))"
 done
@@ -98,7 +102,7 @@ echo "| yardstick view (1024^2, 0.5 vx) | ms (median of $rounds) | runs | / VTK 
 echo "|---|---:|---|---:|"
 echo "| VTK 9.1 CPU ray caster | $(m vtk) | ${times[vtk]}| 1.00 |"
 for gradient in bspline central; do
-  for v in pass nopass noskip; do
+  for v in pass pass+gv nopass noskip; do
     k="yard $gradient $v"
     echo "| cvc, $gradient normals, $v | $(m "$k") | ${times[$k]}| $(ratio "$(m "$k")" "$(m vtk)") |"
   done
@@ -122,7 +126,7 @@ echo
 echo "| yardstick view, composite, colon-wall (1024^2, 0.5 vx) | ms | runs | / VTK |"
 echo "|---|---:|---|---:|"
 echo "| VTK 9.1 CPU ray caster | $(m "vtk composite") | ${times[vtk composite]}| 1.00 |"
-for v in skip noskip; do
+for v in skip skip+gv noskip; do
   k="yard composite $v"
   echo "| cvc, central normals, $v | $(m "$k") | ${times[$k]}| $(ratio "$(m "$k")" "$(m "vtk composite")") |"
 done
@@ -133,5 +137,11 @@ for extra in "--iso -500 --gradient central" "--iso -500 --gradient central --no
   # shellcheck disable=SC2086
   echo "stats ($extra): $("$cvc" render "$out/phantom512.mhd" "${yardstick_inside[@]}" --step 0.5 $extra --stats \
     --force -o "$out/stats.png" 2>&1 | grep -E 'fetches per ray' | tail -1)"
+done
+for gv in off on; do
+  start=$(date +%s.%N)
+  "$cvc" render "$out/phantom512.mhd" "${yardstick_inside[@]}" --step 0.5 --gradient central --gradient-volume "$gv" \
+    --force -o "$out/end_to_end.png" > /dev/null 2>&1
+  echo "one still end to end, gradient volume $gv: $(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN {printf "%.2f", b - a}') s"
 done
 echo "load average at the end $(cut -d' ' -f1-3 /proc/loadavg)"

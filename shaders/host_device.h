@@ -27,6 +27,7 @@ using uint = std::uint32_t;
 #define CVC_BINDING_CHORD_TABLE 7  // per pixel, the cube-map texels of a chord's two ends
 #define CVC_BINDING_RAY_START 8    // per tile, where its rays' march may start (shaders/ray_start.glsl)
 #define CVC_BINDING_SPEED_BOUND 9  // coarse cube map: how fast the map may turn an exact-warped ray
+#define CVC_BINDING_GRADIENT_VOLUME 10  // each voxel's central differences (engine/render/gradient_volume.h)
 
 // Specialization constants: choices fixed per pipeline, so a variant carries no code (and no
 // fetches) for features it does not use.
@@ -42,6 +43,7 @@ using uint = std::uint32_t;
 #define CVC_SPEC_REFINEMENT 9  // iso mode: bisection steps of a hit (a constant loop bound unrolls)
 #define CVC_SPEC_JITTER 10     // 1: offset each ray's first sample by a hash of pixel and RaycastUniforms::jitterSeed
 #define CVC_SPEC_HIT_OUTPUT 11 // CVC_HIT_OUTPUT_*: what the hit image receives
+#define CVC_SPEC_GRADIENT_VOLUME 12  // 1: shading gradients read from the gradient volume, not from the volume's taps
 
 #define CVC_MODE_ISO 0
 #define CVC_MODE_COMPOSITE 1

@@ -21,12 +21,14 @@ layout(constant_id = CVC_SPEC_CHORD_TABLE) const int kChordTable = CVC_CHORD_TAB
 layout(constant_id = CVC_SPEC_REFINEMENT) const int kRefinementSteps = 2;
 layout(constant_id = CVC_SPEC_JITTER) const bool kJitter = false;
 layout(constant_id = CVC_SPEC_HIT_OUTPUT) const int kHitOutput = CVC_HIT_OUTPUT_NONE;
+layout(constant_id = CVC_SPEC_GRADIENT_VOLUME) const bool kGradientVolume = false;
 
 // Volume fetches this invocation made (only kept when kCountFetches: a benchmark's counter).
 uint gFetchCount = 0u;
 
 layout(std140, binding = CVC_BINDING_UNIFORMS) uniform Uniforms { RaycastUniforms u; };
 layout(binding = CVC_BINDING_VOLUME) uniform sampler3D volumeTexture;
+layout(binding = CVC_BINDING_GRADIENT_VOLUME) uniform sampler3D gradientVolume;
 layout(binding = CVC_BINDING_COLOR_IMAGE, rgba8) uniform writeonly image2D colorImage;
 layout(binding = CVC_BINDING_HIT_IMAGE, rgba32f) uniform writeonly image2D hitImage;
 layout(binding = CVC_BINDING_SKIP_DISTANCE) uniform usampler3D skipDistance;
@@ -241,7 +243,8 @@ bool skipEmptySpace(Segment s, vec3 invDir, inout float tCheck, inout float wait
 const float kFlatGradientHuPerMm = 0.5;
 
 vec3 normalAt(vec3 p, vec3 towardEye) {
-    vec3 g = gradientCentralHu(p, kGradient == CVC_GRADIENT_BSPLINE || kFilter == CVC_FILTER_TRICUBIC);
+    bool isBSpline = kGradient == CVC_GRADIENT_BSPLINE || kFilter == CVC_FILTER_TRICUBIC;
+    vec3 g = kGradientVolume ? gradientFromVolumeHu(p, isBSpline) : gradientCentralHu(p, isBSpline);
     float gLength = length(g);
     return gLength > kFlatGradientHuPerMm ? -g / gLength : towardEye;
 }

@@ -381,6 +381,7 @@ std::string sequenceManifest(const SequenceJob& job) {
                             {"refinement_steps", s.refinementSteps},
                             {"filter", filterText(s.filter)},
                             {"gradient", s.gradient == GradientFilter::BSpline ? "bspline" : "central"},
+                            {"gradient_volume", s.isUsingGradientVolume},
                             {"skipping", s.isSkipping},
                             {"skip_cell_voxels", s.skipCellVoxels},
                             {"start_pass", s.isUsingRayStartPass},

@@ -9,6 +9,7 @@
 #include "conformal/cube_map_speed.h"
 #include "engine/core/command_submission.h"
 #include "engine/render/empty_space_map.h"
+#include "engine/render/gradient_volume.h"
 #include "host_device.h"
 #include "raycast_spv.h"
 
@@ -32,6 +33,7 @@ constexpr std::pair<uint32_t, vk::DescriptorType> kRaycastBindings[] = {
     {CVC_BINDING_CHORD_TABLE, vk::DescriptorType::eStorageBuffer},
     {CVC_BINDING_RAY_START, vk::DescriptorType::eStorageBuffer},
     {CVC_BINDING_SPEED_BOUND, vk::DescriptorType::eCombinedImageSampler},
+    {CVC_BINDING_GRADIENT_VOLUME, vk::DescriptorType::eCombinedImageSampler},
 };
 
 /// The descriptor types by binding number, as ComputePipeline takes them.
@@ -48,6 +50,14 @@ bool usesRayStartPass(const RenderRequest& request) {
 }
 
 uint32_t tilesAlong(int pixels) { return static_cast<uint32_t>((pixels + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE); }
+
+/// The settings of the pass that fills a chord table: it only builds rays, so the defaults serve,
+/// without the gradient volume (nothing is shaded).
+RenderSettings chordTableFillSettings() {
+    RenderSettings settings;
+    settings.isUsingGradientVolume = false;
+    return settings;
+}
 
 }  // namespace
 
@@ -132,6 +142,7 @@ Raycaster::Raycaster(const GpuContext& context, const volumes::Volume& volume, c
       mBricks(&bricks),
       mCubeMap(makeIdentityCubeMapTexture(context)),
       mSpeedBounds(makeIdentityCubeMapTexture(context)),  // unread until a warp's map comes
+      mNoGradientVolume(makeEmptyGradientVolume(context)),
       mNoHitImage(context, vk::Extent3D(1, 1, 1), vk::Format::eR32G32B32A32Sfloat, vk::ImageUsageFlagBits::eStorage,
                   "unused hit position image"),
       mNoChordTable(context, 2 * CVC_CHORD_TABLE_BYTES_PER_PIXEL, vk::BufferUsageFlagBits::eStorageBuffer,
@@ -187,14 +198,15 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
     // code of those a pipeline does not use, and no per-ray test of a uniform flag remains.
     const int32_t jitter = settings.isJittered ? 1 : 0;
     const int32_t hitOutput = hitOutputOf(settings);
+    const int32_t gradientVolume = gradientVolumeFor(settings) ? 1 : 0;
     const PipelineKey key{mode, filter, warpId, isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0,
                           settings.isCountingFetches ? 1 : 0, gradient, chordTable, rayStart, refinement,
-                          jitter, hitOutput};
+                          jitter, hitOutput, gradientVolume};
     auto& slot = mPipelines[key];
     if (!slot) {
-        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_HIT_OUTPUT.
+        // Order matches the constant_id numbers CVC_SPEC_MODE .. CVC_SPEC_GRADIENT_VOLUME.
         const int32_t constants[] = {mode, filter, warpId, std::get<3>(key), std::get<4>(key), std::get<5>(key), gradient,
-                                     chordTable, rayStart, refinement, jitter, hitOutput};
+                                     chordTable, rayStart, refinement, jitter, hitOutput, gradientVolume};
         slot = std::make_unique<ComputePipeline>(
             *mContext, raycast_spv, raycastDescriptorTypes(),
             0, "ray caster", constants, static_cast<uint32_t>(kMaxImagesInFlight));
@@ -206,6 +218,7 @@ ComputePipeline& Raycaster::rayStartFillPipelineFor(WarpMode warp, int chordTabl
     // The pass builds each pixel's segment and reads the distance map; the other features do not
     // reach it, so one pipeline per warp and chord-table use serves every request.
     RenderSettings settings;  // skipping on, fixed step, no counting: the defaults
+    settings.isUsingGradientVolume = false;  // nothing is shaded
     return pipelineFor(settings, warp, chordTable, CVC_RAY_START_FILL);
 }
 
@@ -278,6 +291,20 @@ const SampledTexture& Raycaster::skipDistanceFor(const RenderSettings& settings)
     return found->second;
 }
 
+const SampledTexture* Raycaster::gradientVolumeFor(const RenderSettings& settings) {
+    if (!settings.isUsingGradientVolume || mIsGradientVolumeTooLarge) return nullptr;
+    if (!mGradientVolume) {
+        try {
+            mGradientVolume.emplace(makeGradientVolume(*mContext, *mVolumeData));
+        } catch (const DeviceMemoryError&) {
+            // The taps give the same normals (but for rounding) at more fetches per shaded sample.
+            mIsGradientVolumeTooLarge = true;
+            return nullptr;
+        }
+    }
+    return &*mGradientVolume;
+}
+
 void Raycaster::validateRequest(const RenderRequest& request) const {
     validateRenderSettings(request.settings);
     const ViewRays& rays = request.rays;
@@ -333,7 +360,7 @@ RenderBatch Raycaster::submit(std::span<const RenderRequest> requests) {
         const bool isStartPass = usesRayStartPass(requests[i]);
         pipelineFor(settings, requests[i].warp.mode, chordTable, isStartPass ? CVC_RAY_START_READ : CVC_RAY_START_NONE);
         if (chordTables.back().isFilling) {
-            pipelineFor(RenderSettings{}, WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
+            pipelineFor(chordTableFillSettings(), WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
         }
         if (isStartPass) rayStartFillPipelineFor(requests[i].warp.mode, chordTable);
     }
@@ -531,7 +558,8 @@ double Raycaster::chordReachFor(const Warp& warp) const {
 
 void Raycaster::bindResources(ComputePipeline& pipeline, uint32_t set, const GpuBuffer& uniforms, const GpuImage& color,
                               const GpuImage& hit, const SampledTexture& skipDistance, const SampledTexture& transfer,
-                              const GpuBuffer& chordTable, const GpuBuffer& rayStarts) const {
+                              const SampledTexture& gradientVolume, const GpuBuffer& chordTable,
+                              const GpuBuffer& rayStarts) const {
     pipeline.bindBuffer(CVC_BINDING_UNIFORMS, uniforms, set);
     pipeline.bindSampledImage(CVC_BINDING_VOLUME, mVolume->image(), mVolume->sampler(), set);
     pipeline.bindStorageImage(CVC_BINDING_COLOR_IMAGE, color, set);
@@ -540,6 +568,7 @@ void Raycaster::bindResources(ComputePipeline& pipeline, uint32_t set, const Gpu
     pipeline.bindSampledImage(CVC_BINDING_TRANSFER_FUNCTION, transfer.image, transfer.sampler, set);
     pipeline.bindSampledImage(CVC_BINDING_CUBE_MAP, mCubeMap.image, mCubeMap.sampler, set);
     pipeline.bindSampledImage(CVC_BINDING_SPEED_BOUND, mSpeedBounds.image, mSpeedBounds.sampler, set);
+    pipeline.bindSampledImage(CVC_BINDING_GRADIENT_VOLUME, gradientVolume.image, gradientVolume.sampler, set);
     pipeline.bindBuffer(CVC_BINDING_CHORD_TABLE, chordTable, set);
     pipeline.bindBuffer(CVC_BINDING_RAY_START, rayStarts, set);
 }
@@ -571,8 +600,9 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     const GpuBuffer& rayStarts = isStartPass ? *slot.rayStarts : mNoRayStarts;
     ComputePipeline& pipeline =
         pipelineFor(settings, warp.mode, chordTableUse, isStartPass ? CVC_RAY_START_READ : CVC_RAY_START_NONE);
-    bindResources(pipeline, set, slot.uniforms, targets.color, hitImage, skipDistance, transfer, chordTexels,
-                  rayStarts);
+    const SampledTexture* gradientVolume = gradientVolumeFor(settings);
+    bindResources(pipeline, set, slot.uniforms, targets.color, hitImage, skipDistance, transfer,
+                  gradientVolume ? *gradientVolume : mNoGradientVolume, chordTexels, rayStarts);
 
     const shaders::RaycastUniforms u = uniformsFor(request, table, chordReachFor(warp));
     slot.uniforms.write(std::as_bytes(std::span(&u, 1)));
@@ -593,9 +623,10 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     };
     slot.timer.recordStart(commands);  // a table's fill and the tile pass count in the frame
     if (chordTable.isFilling) {
-        ComputePipeline& fill = pipelineFor(RenderSettings{}, WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
-        bindResources(fill, set, slot.fillUniforms, targets.color, hitImage, skipDistance, transfer, chordTexels,
-                      mNoRayStarts);
+        ComputePipeline& fill =
+            pipelineFor(chordTableFillSettings(), WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
+        bindResources(fill, set, slot.fillUniforms, targets.color, hitImage, skipDistance, transfer, mNoGradientVolume,
+                      chordTexels, mNoRayStarts);
         fill.recordDispatch(commands, imageGroups, {}, set);
     }
     // The table may have been filled just now or by an earlier batch still on the queue.
@@ -603,8 +634,8 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     if (isStartPass) {
         // One invocation per tile: the pass's work groups cover CVC_TILE_SIZE^2 tiles each.
         ComputePipeline& tilePass = rayStartFillPipelineFor(warp.mode, chordTableUse);
-        bindResources(tilePass, set, slot.uniforms, targets.color, hitImage, skipDistance, transfer, chordTexels,
-                      rayStarts);
+        bindResources(tilePass, set, slot.uniforms, targets.color, hitImage, skipDistance, transfer, mNoGradientVolume,
+                      chordTexels, rayStarts);
         const vk::Extent3D tileGroups(tilesAlong(static_cast<int>(imageGroups.width)),
                                       tilesAlong(static_cast<int>(imageGroups.height)), 1);
         tilePass.recordDispatch(commands, tileGroups, {}, set);

@@ -109,7 +109,7 @@ private:
         RenderRequest canonical;
         double canonicalReachMm = 0.0;
     };
-    using PipelineKey = std::tuple<int, int, int, int, int, int, int, int, int, int, int, int>;
+    using PipelineKey = std::tuple<int, int, int, int, int, int, int, int, int, int, int, int, int>;
 
     void validateRequest(const RenderRequest& request) const;
     void recordRequest(const vk::raii::CommandBuffer& commands, const RenderRequest& request, int slotIndex,
@@ -125,13 +125,17 @@ private:
                                          double farReachMm) const;
     void bindResources(ComputePipeline& pipeline, uint32_t set, const GpuBuffer& uniforms, const GpuImage& color,
                        const GpuImage& hit, const SampledTexture& skipDistance, const SampledTexture& transfer,
-                       const GpuBuffer& chordTable, const GpuBuffer& rayStarts) const;
+                       const SampledTexture& gradientVolume, const GpuBuffer& chordTable,
+                       const GpuBuffer& rayStarts) const;
     void releaseSlots(const std::vector<int>& slots);
 
     ComputePipeline& pipelineFor(const RenderSettings& settings, WarpMode warp, int chordTable, int rayStart);
     /// The tile pass's pipeline for a request's rays: only the ray construction matters to it.
     ComputePipeline& rayStartFillPipelineFor(WarpMode warp, int chordTable);
     const SampledTexture& skipDistanceFor(const RenderSettings& settings);
+    /// The gradient volume where `settings` ask for it, computed on first use; null where they do
+    /// not, or where the device could not hold it (the shader then takes the volume's taps).
+    const SampledTexture* gradientVolumeFor(const RenderSettings& settings);
     /// The table of the preset `name`, tabulated on first use.
     const TransferTable& transferTableFor(const std::string& name);
     static std::string transferNameOf(const RenderSettings& settings);
@@ -149,6 +153,9 @@ private:
     bool mHasCubeMap = false;
     SampledTexture mSpeedBounds;  // conformal::speedBoundMap of the cube map: the exact warp's skips
     bool mHasSpeedBounds = false;
+    std::optional<SampledTexture> mGradientVolume;  // made on the first request that shades with it
+    bool mIsGradientVolumeTooLarge = false;         // the device could not hold it: taps instead
+    SampledTexture mNoGradientVolume;               // bound where no gradient volume is read
     std::map<PipelineKey, std::unique_ptr<ComputePipeline>> mPipelines;
     std::map<std::string, SampledTexture> mSkipDistances;    // by cell size and "iso:<value>" or "tf:<name>"
     std::map<std::string, SampledTexture> mTransferTextures;  // by preset name, and step where corrected

@@ -5,9 +5,8 @@
 #include <stdexcept>
 
 namespace engine {
-namespace {
 
-vk::SamplerCreateInfo samplerInfo(vk::Filter filter) {
+vk::SamplerCreateInfo clampedSamplerInfo(vk::Filter filter) {
     vk::SamplerCreateInfo info;
     info.magFilter = filter;
     info.minFilter = filter;
@@ -16,6 +15,8 @@ vk::SamplerCreateInfo samplerInfo(vk::Filter filter) {
     info.maxLod = 0.0f;
     return info;
 }
+
+namespace {
 
 constexpr auto kSampledUsage = vk::ImageUsageFlagBits::eSampled | vk::ImageUsageFlagBits::eTransferDst;
 
@@ -37,7 +38,7 @@ SampledTexture makeSkipDistanceTexture(const GpuContext& context, const std::arr
     SampledTexture texture{GpuImage(context,
                                     vk::Extent3D(static_cast<uint32_t>(cellDims[0]), static_cast<uint32_t>(cellDims[1]), depth),
                                     vk::Format::eR8Uint, kSampledUsage, "empty-space distance map"),
-                           vk::raii::Sampler(context.device(), samplerInfo(vk::Filter::eNearest))};
+                           vk::raii::Sampler(context.device(), clampedSamplerInfo(vk::Filter::eNearest))};
     uploadImage(context, texture.image, std::as_bytes(std::span(texels)));
     return texture;
 }
@@ -52,7 +53,7 @@ SampledTexture makeTransferTexture(const GpuContext& context, const TransferTabl
     }
     SampledTexture texture{GpuImage(context, vk::Extent3D(static_cast<uint32_t>(table.rgba.size()), 1, 1),
                                     vk::Format::eR16G16B16A16Unorm, kSampledUsage, "transfer function"),
-                           vk::raii::Sampler(context.device(), samplerInfo(vk::Filter::eLinear))};
+                           vk::raii::Sampler(context.device(), clampedSamplerInfo(vk::Filter::eLinear))};
     uploadImage(context, texture.image, std::as_bytes(std::span(texels)));
     return texture;
 }
@@ -66,7 +67,7 @@ SampledTexture makeCubeMapTexture(const GpuContext& context, int size, std::span
     const auto edge = static_cast<uint32_t>(size);
     SampledTexture texture{GpuImage(context, vk::Extent3D(edge, edge, 1), vk::Format::eR32G32B32A32Sfloat, kSampledUsage,
                                     "conformal cube map", true),
-                           vk::raii::Sampler(context.device(), samplerInfo(vk::Filter::eLinear))};
+                           vk::raii::Sampler(context.device(), clampedSamplerInfo(vk::Filter::eLinear))};
     uploadImage(context, texture.image, std::as_bytes(rgba));
     return texture;
 }

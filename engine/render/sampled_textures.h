@@ -18,6 +18,10 @@ struct SampledTexture {
     vk::raii::Sampler sampler;
 };
 
+/// A sampler with `filter` (nearest or linear) that clamps to the edge along every axis, as every
+/// texture of the ray caster is read.
+vk::SamplerCreateInfo clampedSamplerInfo(vk::Filter filter);
+
 /// The empty-space distance map (one byte per cell, see empty_space_map.h) as an R8_UINT 3D
 /// image read with texelFetch.
 SampledTexture makeSkipDistanceTexture(const GpuContext& context, const std::array<int, 3>& cellDims,

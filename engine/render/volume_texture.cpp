@@ -1,9 +1,11 @@
 #include "engine/render/volume_texture.h"
 
 #include <algorithm>
+#include <memory>
 
 #include "engine/core/command_submission.h"
 #include "engine/core/gpu_buffer.h"
+#include "engine/render/sampled_textures.h"
 
 namespace engine {
 namespace {
@@ -36,25 +38,47 @@ vk::Extent3D extentOf(const volumes::Volume& volume, const GpuContext& context) 
                         static_cast<uint32_t>(volume.dims[2]));
 }
 
-vk::SamplerCreateInfo trilinearClampSampler() {
-    vk::SamplerCreateInfo info;
-    info.magFilter = vk::Filter::eLinear;
-    info.minFilter = vk::Filter::eLinear;
-    info.mipmapMode = vk::SamplerMipmapMode::eNearest;
-    info.addressModeU = info.addressModeV = info.addressModeW = vk::SamplerAddressMode::eClampToEdge;
-    info.maxLod = 0.0f;
-    return info;
-}
-
-/// Runs `perSlab(firstZ, depth)` over z-slabs that each fit kSlabBytes.
+/// Runs `perSlab(firstZ, depth, sliceBytes)` over z-slabs of texels of `texelBytes` that each fit
+/// kSlabBytes.
 template <typename Function>
-void forEachSlab(const std::array<int, 3>& dims, Function perSlab) {
-    const vk::DeviceSize sliceBytes = static_cast<vk::DeviceSize>(dims[0]) * static_cast<vk::DeviceSize>(dims[1]) * 2;
+void forEachSlab(const std::array<int, 3>& dims, vk::DeviceSize texelBytes, Function perSlab) {
+    const vk::DeviceSize sliceBytes =
+        static_cast<vk::DeviceSize>(dims[0]) * static_cast<vk::DeviceSize>(dims[1]) * texelBytes;
     const int slicesPerSlab = static_cast<int>(std::max<vk::DeviceSize>(1, kSlabBytes / sliceBytes));
     for (int z = 0; z < dims[2]; z += slicesPerSlab) perSlab(z, std::min(slicesPerSlab, dims[2] - z), sliceBytes);
 }
 
 }  // namespace
+
+void uploadInSlabs(const GpuContext& context, const GpuImage& image, const std::array<int, 3>& dims,
+                   vk::DeviceSize texelBytes, const std::function<void(int, int, std::byte*)>& fillSlab) {
+    bool isFirst = true;
+    // One staging buffer serves every slab: on a CPU device the pages of each new buffer would be
+    // faulted in afresh, and page faults were much of a large upload's time in a profile.
+    std::unique_ptr<GpuBuffer> staging;
+    forEachSlab(dims, texelBytes, [&](int firstZ, int depth, vk::DeviceSize sliceBytes) {
+        const vk::DeviceSize slabBytes = sliceBytes * static_cast<vk::DeviceSize>(depth);
+        if (!staging) {
+            staging = std::make_unique<GpuBuffer>(context, slabBytes, vk::BufferUsageFlagBits::eTransferSrc,
+                                                  GpuBuffer::Memory::HostVisible, "volume upload staging");
+        }
+        fillSlab(firstZ, depth, static_cast<std::byte*>(staging->mapped()));
+        const bool isLast = firstZ + depth == dims[2];
+        submitAndWait(context, [&](const vk::raii::CommandBuffer& commands) {
+            if (isFirst) recordImageBarrier(commands, image, vk::ImageLayout::eUndefined, vk::ImageLayout::eTransferDstOptimal);
+            vk::BufferImageCopy region(0, 0, 0, vk::ImageSubresourceLayers(vk::ImageAspectFlagBits::eColor, 0, 0, 1),
+                                       vk::Offset3D(0, 0, firstZ),
+                                       vk::Extent3D(static_cast<uint32_t>(dims[0]), static_cast<uint32_t>(dims[1]),
+                                                    static_cast<uint32_t>(depth)));
+            commands.copyBufferToImage(*staging->buffer(), *image.image(), vk::ImageLayout::eTransferDstOptimal, region);
+            if (isLast) {
+                recordImageBarrier(commands, image, vk::ImageLayout::eTransferDstOptimal,
+                                   vk::ImageLayout::eShaderReadOnlyOptimal);
+            }
+        });
+        isFirst = false;
+    });
+}
 
 vk::DeviceSize VolumeTexture::bytesFor(const std::array<int, 3>& dims) {
     vk::DeviceSize bytes = sizeof(uint16_t);
@@ -75,39 +99,23 @@ VolumeTexture::VolumeTexture(const GpuContext& context, const volumes::Volume& v
       mImage(context, extentOf(volume, context), vk::Format::eR16Unorm,
              vk::ImageUsageFlagBits::eSampled | vk::ImageUsageFlagBits::eTransferDst | vk::ImageUsageFlagBits::eTransferSrc,
              "CT volume", false, true),  // 3D even for one slice: the shaders read a sampler3D
-      mSampler(context.device(), trilinearClampSampler()) {
+      mSampler(context.device(), clampedSamplerInfo(vk::Filter::eLinear)) {
     volumes::validateVolume(volume, "volume for upload");
-    bool isFirst = true;
-    forEachSlab(mDims, [&](int firstZ, int depth, vk::DeviceSize sliceBytes) {
-        GpuBuffer staging(context, sliceBytes * static_cast<vk::DeviceSize>(depth), vk::BufferUsageFlagBits::eTransferSrc,
-                          GpuBuffer::Memory::HostVisible, "volume upload staging");
-        auto* texels = static_cast<uint16_t*>(staging.mapped());
+    uploadInSlabs(context, mImage, mDims, sizeof(uint16_t), [&](int firstZ, int depth, std::byte* staging) {
+        auto* texels = reinterpret_cast<uint16_t*>(staging);
         const std::size_t first = volume.linearIndex(0, 0, firstZ);
-        const std::size_t count = static_cast<std::size_t>(sliceBytes / 2) * static_cast<std::size_t>(depth);
+        const std::size_t count = static_cast<std::size_t>(mDims[0]) * static_cast<std::size_t>(mDims[1]) *
+                                  static_cast<std::size_t>(depth);
         for (std::size_t i = 0; i < count; ++i) {
             texels[i] = static_cast<uint16_t>(static_cast<int>(volume.hu[first + i]) + kHuTexelOffset);
         }
-        const bool isLast = firstZ + depth == mDims[2];
-        submitAndWait(context, [&](const vk::raii::CommandBuffer& commands) {
-            if (isFirst) recordImageBarrier(commands, mImage, vk::ImageLayout::eUndefined, vk::ImageLayout::eTransferDstOptimal);
-            vk::BufferImageCopy region(0, 0, 0, vk::ImageSubresourceLayers(vk::ImageAspectFlagBits::eColor, 0, 0, 1),
-                                       vk::Offset3D(0, 0, firstZ),
-                                       vk::Extent3D(static_cast<uint32_t>(mDims[0]), static_cast<uint32_t>(mDims[1]),
-                                                    static_cast<uint32_t>(depth)));
-            commands.copyBufferToImage(*staging.buffer(), *mImage.image(), vk::ImageLayout::eTransferDstOptimal, region);
-            if (isLast) {
-                recordImageBarrier(commands, mImage, vk::ImageLayout::eTransferDstOptimal,
-                                   vk::ImageLayout::eShaderReadOnlyOptimal);
-            }
-        });
-        isFirst = false;
     });
 }
 
 std::vector<int16_t> VolumeTexture::readBackHu() const {
     std::vector<int16_t> hu(static_cast<std::size_t>(mDims[0]) * static_cast<std::size_t>(mDims[1]) *
                             static_cast<std::size_t>(mDims[2]));
-    forEachSlab(mDims, [&](int firstZ, int depth, vk::DeviceSize sliceBytes) {
+    forEachSlab(mDims, sizeof(uint16_t), [&](int firstZ, int depth, vk::DeviceSize sliceBytes) {
         GpuBuffer readback(*mContext, sliceBytes * static_cast<vk::DeviceSize>(depth), vk::BufferUsageFlagBits::eTransferDst,
                            GpuBuffer::Memory::HostVisible, "volume readback");
         submitAndWait(*mContext, [&](const vk::raii::CommandBuffer& commands) {

@@ -2,6 +2,7 @@
 /// int16 value survives exactly, sampled through a trilinear, clamp-to-edge sampler.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "engine/core/gpu_context.h"
@@ -12,6 +13,12 @@ namespace engine {
 
 /// Offset that maps int16 HU onto the uint16 texel range (shaders undo it after sampling).
 inline constexpr int kHuTexelOffset = 32768;
+
+/// Uploads a 3D `image` of `dims` texels of `texelBytes` each, in z-slabs through at most 32 MiB
+/// of staging memory: `fillSlab(firstZ, depth, texels)` writes the slab's texels (x fastest, then
+/// y, then z) into the mapped staging memory. Leaves the image ready for sampling.
+void uploadInSlabs(const GpuContext& context, const GpuImage& image, const std::array<int, 3>& dims,
+                   vk::DeviceSize texelBytes, const std::function<void(int, int, std::byte*)>& fillSlab);
 
 class VolumeTexture {
 public:
