@@ -19,8 +19,8 @@ out=${2:-out/bench_flythrough}
 with_vtk=${3:-}
 cvc=build/app/cvc
 mkdir -p "$out"
-[ -f "$out/colon.nrrd" ] || "$cvc" phantom -o "$out/colon.nrrd" > /dev/null
-source scripts/bench_yardstick.sh
+source scripts/bench_scenes.sh
+colon_phantom "$out" "$cvc"
 [ "$with_vtk" = --no-vtk ] || yardstick_phantom "$out"
 echo "device: $("$cvc" render "$out/colon.nrrd" --size 8x8 --force -o "$out/probe.png" | sed -n 's/^rendered 8x8 on \(.*\): ray.*/\1/p')"
 echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -26,10 +26,9 @@ rounds=${1:-5}
 out=${2:-out/bench_march}
 cvc=build/app/cvc
 mkdir -p "$out"
-source scripts/bench_yardstick.sh
+source scripts/bench_scenes.sh
 yardstick_phantom "$out"
-[ -f "$out/colon.nrrd" ] || "$cvc" phantom -o "$out/colon.nrrd" > /dev/null
-ct=../shared/data/ct/ts_example_abdomen_3mm.nrrd
+colon_phantom "$out" "$cvc"
 # The yardstick as NRRD too: the VTK worker of bench_raycaster.py reads NRRD.
 if [ ! -f "$out/phantom512.nrrd" ]; then
   printf 'NRRD0004\ntype: short\ndimension: 3\nsizes: 512 512 451\nspacings: 0.7 0.7 0.8\nencoding: raw\nendian: little\n\n' \
@@ -44,8 +43,7 @@ cvc_ms() { "$cvc" render "$@" --force 2>/dev/null | sed -n 's/.*ray casting \([0
 yardstick() { cvc_ms "$out/phantom512.mhd" "${yardstick_inside[@]}" --step 0.5 -o "$out/yardstick.png" "$@"; }
 vtk_ms() { vtk_yardstick_ms "$(cd "$out" && pwd)"; }
 ct_ms() {
-  cvc_ms "$ct" --position 150,240,231 --look-at 124.414,235.488,246 --up 0,0,1 --fov 90 --size 1024x1024 \
-    --iso -500 -o "$out/ct.png" "$@"
+  cvc_ms "$ct_volume" "${ct_inside[@]}" --iso -500 -o "$out/ct.png" "$@"
 }
 vtk_composite_ms() {
   cat > "$out/vtk_composite_job.json" <<JOB

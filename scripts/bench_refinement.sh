@@ -14,15 +14,12 @@ cd "$(dirname "$0")/.."
 out=${1:-out/bench_refinement}
 cvc=build/app/cvc
 mkdir -p "$out"
-source scripts/bench_yardstick.sh
+source scripts/bench_scenes.sh
 yardstick_phantom "$out"
-[ -f "$out/colon.nrrd" ] || "$cvc" phantom -o "$out/colon.nrrd" > /dev/null
-# The colon phantom's and the CT's cameras are docs/benchmarks.md's "Scenes".
+colon_phantom "$out" "$cvc"
 yardstick=("$out/phantom512.mhd" "${yardstick_inside[@]}")
-phantom=("$out/colon.nrrd" --position 49.182,83.585,107.125 --look-at 51.184,78.381,115.415 --up 0,0,1 --fov 90
-         --size 1024x1024)
-ct=(../shared/data/ct/ts_example_abdomen_3mm.nrrd --position 150,240,231 --look-at 124.414,235.488,246 --up 0,0,1
-    --fov 90 --size 1024x1024)
+phantom=("$out/colon.nrrd" "${phantom_inside[@]}")
+ct=("$ct_volume" "${ct_inside[@]}")
 render() {  # scene-name label options...
   local name=$1 label=$2
   shift 2
