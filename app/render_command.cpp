@@ -151,7 +151,7 @@ engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isD
     settings.isSkipping = !options.isSkippingOff;
     settings.isUsingRayStartPass = !options.isStartPassOff;
     // The gradient volume pays for itself over many frames; a single still would spend longer
-    // computing it (1.2 s for the 512x512x451 yardstick here) than it saves (docs/benchmarks.md).
+    // computing it (1.3-1.7 s for the 512x512x451 yardstick here) than it saves (docs/benchmarks.md).
     settings.isUsingGradientVolume = options.gradientVolume.empty() ? isDisplay : options.gradientVolume == "on";
     // Each default is chosen here, once; a value given is passed on as it is, so a bad one is
     // refused by the ray caster's checks instead of silently replaced.
