@@ -17,8 +17,8 @@
 #      VTK too (scripts/bench_raycaster.py's VTK worker: the same preset, opacity per mm), and
 #      to cvc with and without skipping, and with the gradient volume;
 # and, once, the end-to-end time of one still with and without the gradient volume (which is
-# computed before the first frame), and the sampling efficiency: `cvc render --stats` on the yardstick against the
-# plain-trilinear ceiling of `cvc_bench ceiling` on the same volume.
+# computed before the first frame), and the sampling efficiency: `cvc render --stats` on the
+# yardstick against the plain-trilinear ceiling of `cvc_bench ceiling` on the same volume.
 # Needs the cvc target built in build/, and for VTK python3-vtk9, python3-numpy and xvfb.
 set -euo pipefail
 cd "$(dirname "$0")/.."
