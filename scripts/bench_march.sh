@@ -25,10 +25,8 @@ cd "$(dirname "$0")/.."
 rounds=${1:-5}
 out=${2:-out/bench_march}
 cvc=build/app/cvc
-mkdir -p "$out"
 source scripts/bench_scenes.sh
-yardstick_phantom "$out"
-colon_phantom "$out" "$cvc"
+make_scenes "$out" "$cvc"
 # The yardstick as NRRD too: the VTK worker of bench_raycaster.py reads NRRD.
 if [ ! -f "$out/phantom512.nrrd" ]; then
   printf 'NRRD0004\ntype: short\ndimension: 3\nsizes: 512 512 451\nspacings: 0.7 0.7 0.8\nencoding: raw\nendian: little\n\n' \

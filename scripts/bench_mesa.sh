@@ -27,8 +27,7 @@ installed_icd=$(ls /usr/share/vulkan/icd.d/lvp_icd*.json | head -1)
 declare -A icd=([installed]="$installed_icd" [release]="$unpacked/lvp_icd.json")
 
 source scripts/bench_scenes.sh
-yardstick_phantom "$out"
-colon_phantom "$out" "$cvc"
+make_scenes "$out" "$cvc"
 inside=("${yardstick_inside[@]}" --iso -500 --step 0.5)
 
 echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -13,10 +13,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/bench_refinement}
 cvc=build/app/cvc
-mkdir -p "$out"
 source scripts/bench_scenes.sh
-yardstick_phantom "$out"
-colon_phantom "$out" "$cvc"
+make_scenes "$out" "$cvc"
 yardstick=("$out/phantom512.mhd" "${yardstick_inside[@]}")
 phantom=("$out/colon.nrrd" "${phantom_inside[@]}")
 ct=("$ct_volume" "${ct_inside[@]}")
