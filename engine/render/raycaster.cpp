@@ -51,9 +51,10 @@ bool usesRayStartPass(const RenderRequest& request) {
 
 uint32_t tilesAlong(int pixels) { return static_cast<uint32_t>((pixels + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE); }
 
-/// The settings of the pass that fills a chord table: it only builds rays, so the defaults serve,
-/// without the gradient volume (nothing is shaded).
-RenderSettings chordTableFillSettings() {
+/// The settings of the passes that only build rays (the chord-table fill and the tile pass): the
+/// defaults serve (skipping on, fixed step, no counting), without the gradient volume, since
+/// nothing is shaded.
+RenderSettings rayPassSettings() {
     RenderSettings settings;
     settings.isUsingGradientVolume = false;
     return settings;
@@ -217,9 +218,7 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
 ComputePipeline& Raycaster::rayStartFillPipelineFor(WarpMode warp, int chordTable) {
     // The pass builds each pixel's segment and reads the distance map; the other features do not
     // reach it, so one pipeline per warp and chord-table use serves every request.
-    RenderSettings settings;  // skipping on, fixed step, no counting: the defaults
-    settings.isUsingGradientVolume = false;  // nothing is shaded
-    return pipelineFor(settings, warp, chordTable, CVC_RAY_START_FILL);
+    return pipelineFor(rayPassSettings(), warp, chordTable, CVC_RAY_START_FILL);
 }
 
 const TransferTable& Raycaster::transferTableFor(const std::string& name) {
@@ -360,7 +359,7 @@ RenderBatch Raycaster::submit(std::span<const RenderRequest> requests) {
         const bool isStartPass = usesRayStartPass(requests[i]);
         pipelineFor(settings, requests[i].warp.mode, chordTable, isStartPass ? CVC_RAY_START_READ : CVC_RAY_START_NONE);
         if (chordTables.back().isFilling) {
-            pipelineFor(chordTableFillSettings(), WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
+            pipelineFor(rayPassSettings(), WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
         }
         if (isStartPass) rayStartFillPipelineFor(requests[i].warp.mode, chordTable);
     }
@@ -624,7 +623,7 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     slot.timer.recordStart(commands);  // a table's fill and the tile pass count in the frame
     if (chordTable.isFilling) {
         ComputePipeline& fill =
-            pipelineFor(chordTableFillSettings(), WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
+            pipelineFor(rayPassSettings(), WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
         bindResources(fill, set, slot.fillUniforms, targets.color, hitImage, skipDistance, transfer, mNoGradientVolume,
                       chordTexels, mNoRayStarts);
         fill.recordDispatch(commands, imageGroups, {}, set);
