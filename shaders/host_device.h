@@ -24,7 +24,7 @@ using uint = std::uint32_t;
 #define CVC_BINDING_SKIP_DISTANCE 4  // the empty-space distance map
 #define CVC_BINDING_TRANSFER_FUNCTION 5
 #define CVC_BINDING_CUBE_MAP 6
-#define CVC_BINDING_CHORD_TABLE 7  // per pixel, the cube-map texels of a chord's two ends
+#define CVC_BINDING_CHORD_TABLE 7  // per pixel, its chord in CAVE axes (CVC_CHORD_TABLE_*)
 #define CVC_BINDING_RAY_START 8    // per tile, where its rays' march may start (shaders/ray_start.glsl)
 #define CVC_BINDING_SPEED_BOUND 9  // coarse cube map: how fast the map may turn an exact-warped ray
 #define CVC_BINDING_GRADIENT_VOLUME 10  // each voxel's central differences (engine/render/gradient_volume.h)
@@ -54,14 +54,15 @@ using uint = std::uint32_t;
 #define CVC_WARP_EXACT 2   // map every sample (the reference for stereo eyes)
 #define CVC_GRADIENT_CENTRAL 0  // central differences of the filtered volume (6 trilinear fetches)
 #define CVC_GRADIENT_BSPLINE 1  // central differences of the cubic B-spline interpolant (48 fetches, smooth)
-// A chord's ends are looked up along directions that depend only on the display, the eye and
-// the scale, not on the pose: the texels can be fetched once and read on every later frame.
-#define CVC_CHORD_TABLE_NONE 0  // fetch them from the cube map, per ray
-#define CVC_CHORD_TABLE_READ 1  // read them from the chord table
-#define CVC_CHORD_TABLE_FILL 2  // fetch them and write the chord table; no ray is marched
-// The table: per pixel one vec4, the near and far ends' scene directions as octahedral
-// coordinates; after all pixels' vec4s, one float per pixel, the adaptive step's local scale.
-#define CVC_CHORD_TABLE_BYTES_PER_PIXEL 20
+// A pixel's chord, in CAVE axes about the map centre, depends only on the display, the eye and
+// the scale, not on the pose: it can be made once and turned into every later frame's pose.
+#define CVC_CHORD_TABLE_NONE 0  // make each chord per ray (two cube-map fetches)
+#define CVC_CHORD_TABLE_READ 1  // read the chords from the chord table
+#define CVC_CHORD_TABLE_FILL 2  // make the chords and write the chord table; no ray is marched
+// The table: per pixel two vec4s, the chord in CAVE axes about the map centre: its start and
+// its distance from the eye; its direction as octahedral coordinates, its length and the map's
+// local scale along the pixel (for the adaptive step).
+#define CVC_CHORD_TABLE_BYTES_PER_PIXEL 32
 // A pass over the image's tiles (one invocation per CVC_TILE_SIZE^2 pixels) writes, per tile, a
 // ray parameter before which every ray of the tile crosses only empty cells; the march reads it.
 #define CVC_RAY_START_NONE 0  // rays start where they enter the box

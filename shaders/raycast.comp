@@ -68,7 +68,47 @@ Segment withTextureRay(Segment s) {
     return s;
 }
 
+// A pixel's first vec4 in the chord table. The table is laid out tile by tile (each tile's
+// CVC_TILE_SIZE^2 pixels row by row, then the next tile), in the order the work groups run, so
+// that on a CPU device a frame reads it as one stream. (Laid out by image rows, a tile's rows
+// would lie a wall's width apart, each on a page of its own; docs/benchmarks.md.)
+uint chordTableEntry(uvec2 pixel) {
+    uvec2 tile = pixel / CVC_TILE_SIZE;
+    uvec2 inTile = pixel % CVC_TILE_SIZE;
+    uint tilesPerRow = (u.imageSize.x + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE;
+    uint tileIndex = tile.y * tilesPerRow + tile.x;
+    return 2u * (tileIndex * (CVC_TILE_SIZE * CVC_TILE_SIZE) + inTile.y * CVC_TILE_SIZE + inTile.x);
+}
+
+// The chord's part inside the box: from its start (or where it enters) to where it leaves, or
+// to its far end.
+Segment clippedChord(Segment s, float chordLength) {
+    vec2 span = intersectBox(s.origin, s.dir, u.boxMinMm, u.boxMaxMm);
+    s.tStart = max(span.x, 0.0);
+    s.tEnd = min(span.y, chordLength);
+    return withTextureRay(s);
+}
+
+// A pixel's chord as the fill below wrote it, in CAVE axes about the map centre: this frame's
+// pose turns it (caveToVolume) and moves it (mapCentreMm) into the volume. Two 16-byte reads,
+// one octahedral decode and two matrix products: the cube-map texels, the near and far points
+// and the chord's normalisation were paid for once, when the table was filled.
+Segment chordFromTable(uvec2 pixel) {
+    uint entry = chordTableEntry(pixel);
+    vec4 start = chordTable[entry];            // xyz: the chord's start; w: its distance from the eye
+    vec4 direction = chordTable[entry + 1u];   // xy: octahedral direction; z: length; w: local scale
+    mat3 toVolume = caveToVolume();
+    Segment s;
+    s.origin = u.mapCentreMm + toVolume * start.xyz;
+    s.dir = toVolume * directionFromOctahedral(direction.xy);
+    s.eyeDistance = start.w;
+    s.localScale = direction.w;
+    s.speedBound = 0.0;
+    return clippedChord(s, direction.z);
+}
+
 Segment segmentForPixel(uvec2 pixel) {
+    if (kChordTable == CVC_CHORD_TABLE_READ) return chordFromTable(pixel);
     vec3 eye = u.eyeMm;
     vec3 wallPoint = wallPointMm(pixel);
     vec3 dir = normalize(wallPoint - eye);
@@ -93,28 +133,9 @@ Segment segmentForPixel(uvec2 pixel) {
     // on the pose (while the centre is inside the box), so the chord table stays valid.
     vec3 c = u.mapCentreMm;
     float tFar = u.chordReachMm + length(eye - c) + tNear;
-    vec3 nearPoint = eye + tNear * dir;
-    vec3 farPoint = eye + tFar * dir;
-    uint pixelIndex = pixel.y * u.imageSize.x + pixel.x;
-    // The local scales are packed four to a vec4 after every pixel's vec4 of directions.
-    uint scaleEntry = u.imageSize.x * u.imageSize.y + pixelIndex / 4u;
-    uint scaleLane = pixelIndex % 4u;
-    if (kChordTable == CVC_CHORD_TABLE_FILL) {
-        // The texels the per-ray path below fetches, looked up for the display's own geometry:
-        // the host passes it in CAVE axes about a centre at the origin, so the table does not
-        // depend on the pose of the frame that fills it.
-        chordTable[pixelIndex] = vec4(octahedralFromDirection(normalize(cubeTexelAt(nearPoint).xyz)),
-                                      octahedralFromDirection(normalize(cubeTexelAt(farPoint).xyz)));
-        chordTable[scaleEntry][scaleLane] = sceneFromDisplay(normalize(wallPoint - c)).w;
-        s.tStart = 1.0;
-        s.tEnd = 0.0;
-        return s;
-    }
-    // Only the adaptive step reads the map's local scale: other variants save the fetch.
-    if (kAdaptive) {
-        s.localScale = kChordTable == CVC_CHORD_TABLE_READ ? chordTable[scaleEntry][scaleLane]
-                                                           : sceneFromDisplay(normalize(wallPoint - c)).w;
-    }
+    // Only the adaptive step reads the map's local scale (and the table keeps it for that):
+    // other variants save the fetch.
+    if (kAdaptive || kChordTable == CVC_CHORD_TABLE_FILL) s.localScale = sceneFromDisplay(normalize(wallPoint - c)).w;
     if (kWarp == CVC_WARP_EXACT) {
         // The direction of a ray's point seen from the map centre turns toward dir as the ray
         // goes on: the bound near dir serves its skips (skipAlongBentRay).
@@ -126,24 +147,25 @@ Segment segmentForPixel(uvec2 pixel) {
         return s;
     }
     // Chord mode (paper Eq. 7): map the near and far points, march the chord between them.
-    vec3 a;
-    vec3 b;
-    if (kChordTable == CVC_CHORD_TABLE_READ) {
-        vec4 ends = chordTable[pixelIndex];  // one 16-byte read for both ends
-        a = warpPointWith(nearPoint, vec4(directionFromOctahedral(ends.xy), 1.0));
-        b = warpPointWith(farPoint, vec4(directionFromOctahedral(ends.zw), 1.0));
-    } else {
-        a = warpPoint(nearPoint);
-        b = warpPoint(farPoint);
-    }
+    vec3 a = warpPoint(eye + tNear * dir);
+    vec3 b = warpPoint(eye + tFar * dir);
     float chordLength = length(b - a);
     s.origin = a;
     s.dir = chordLength > 1e-6 ? (b - a) / chordLength : dir;
-    vec2 span = intersectBox(a, s.dir, u.boxMinMm, u.boxMaxMm);
-    s.tStart = max(span.x, 0.0);
-    s.tEnd = min(span.y, chordLength);
     s.eyeDistance = tNear;
-    return withTextureRay(s);
+    if (kChordTable == CVC_CHORD_TABLE_FILL) {
+        // The chord in CAVE axes about the map centre, which do not depend on the pose. (The
+        // host fills the table from the display's own geometry, given in those axes about a
+        // centre at the origin, so that the table does not depend on which frame filled it.)
+        mat3 toCave = transpose(caveToVolume());
+        uint entry = chordTableEntry(pixel);
+        chordTable[entry] = vec4(toCave * (a - c), tNear);
+        chordTable[entry + 1u] = vec4(octahedralFromDirection(toCave * s.dir), chordLength, s.localScale);
+        s.tStart = 1.0;
+        s.tEnd = 0.0;
+        return s;
+    }
+    return clippedChord(s, chordLength);
 }
 
 vec3 pointAt(Segment s, float t) {

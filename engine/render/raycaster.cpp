@@ -446,9 +446,10 @@ Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, 
         use.table = found->second.get();
         return use;
     }
-    // Rounded up to whole vec4s: the shader's array is of vec4s.
-    const vk::DeviceSize pixels = static_cast<vk::DeviceSize>(rays.width) * static_cast<vk::DeviceSize>(rays.height);
-    const vk::DeviceSize bytes = (pixels * CVC_CHORD_TABLE_BYTES_PER_PIXEL + 15) / 16 * 16;
+    // The table is laid out tile by tile (raycast.comp), whole tiles at the image's edges too.
+    const vk::DeviceSize tiles = vk::DeviceSize{tilesAlong(rays.width)} * tilesAlong(rays.height);
+    const vk::DeviceSize pixels = tiles * CVC_TILE_SIZE * CVC_TILE_SIZE;
+    const vk::DeviceSize bytes = pixels * CVC_CHORD_TABLE_BYTES_PER_PIXEL;
     use.isFilling = true;
     if (mChordTableBytes + bytes > mChordTableBudgetBytes) {
         // Past the budget the table is filled for this frame alone, in the image's slot, so the
