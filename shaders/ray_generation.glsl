@@ -11,16 +11,6 @@ vec3 wallPointMm(uvec2 pixel) {
 
 mat3 caveToVolume() { return mat3(u.caveToVolume0, u.caveToVolume1, u.caveToVolume2); }
 
-// The cube map's texel for the display direction of point q (volume millimetres) seen from
-// the map centre: xyz = F of that direction in CAVE axes (not normalised), w = the map's local
-// scale there. At the centre itself, whose direction is undefined, any texel will do.
-vec4 cubeTexelAt(vec3 qMm) {
-    vec3 offset = qMm - u.mapCentreMm;
-    float radius = length(offset);
-    vec3 display = radius < 1e-6 ? vec3(0.0, -1.0, 0.0) : offset / radius;
-    return textureLod(cubeMap, transpose(caveToVolume()) * display, 0.0);
-}
-
 // F for a display direction given in volume axes: xyz = the scene direction in volume axes,
 // w = the map's local scale there (scene radians per display radian). The cube map holds F in
 // CAVE axes, so the direction is turned into the CAVE frame and the answer back.
@@ -50,15 +40,17 @@ vec3 directionFromOctahedral(vec2 e) {
     return normalize(n);
 }
 
-// W(q) = c + |q - c| * F(dir(q - c)) with F's texel for that direction already at hand.
-vec3 warpPointWith(vec3 qMm, vec4 texel) {
+// W(q) = c + |q - c| * F(dir(q - c)): the warp of space about the map centre c. The cube map
+// holds F in CAVE axes (its texels' xyz not normalised), so the direction is turned into the
+// CAVE frame for the lookup and the answer back.
+vec3 warpPoint(vec3 qMm) {
     vec3 c = u.mapCentreMm;
-    float radius = length(qMm - c);
+    vec3 offset = qMm - c;
+    float radius = length(offset);
     if (radius < 1e-6) return c;  // the centre maps to itself; its direction is undefined
-    return c + radius * (caveToVolume() * normalize(texel.xyz));
+    mat3 toVolume = caveToVolume();
+    vec4 texel = textureLod(cubeMap, transpose(toVolume) * (offset / radius), 0.0);
+    return c + radius * (toVolume * normalize(texel.xyz));
 }
-
-// W(q) = c + |q - c| * F(dir(q - c)): the warp of space about the map centre c.
-vec3 warpPoint(vec3 qMm) { return warpPointWith(qMm, cubeTexelAt(qMm)); }
 
 #endif
