@@ -19,11 +19,6 @@ layout(std430, binding = CVC_BINDING_RAY_START) buffer RayStartTable { float ray
 
 const int kMaxTileSkips = 256;  // cone-marching steps of one tile: ample, and a bound
 
-uint tileIndexOf(uvec2 tile) {
-    uint tilesPerRow = (u.imageSize.x + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE;
-    return tile.y * tilesPerRow + tile.x;
-}
-
 // Radius of a ball around pMm that holds only empty cells: a cell at Chebyshev distance d has
 // d - 1 empty cells beyond its own on every side. Less a hundredth of a cell, for the rounding
 // by which the march's positions may differ from this pass's.

@@ -68,16 +68,20 @@ Segment withTextureRay(Segment s) {
     return s;
 }
 
+// A tile's index, row by row over the image's tiles (the ray-start table's entry too).
+uint tileIndexOf(uvec2 tile) {
+    uint tilesPerRow = (u.imageSize.x + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE;
+    return tile.y * tilesPerRow + tile.x;
+}
+
 // A pixel's first vec4 in the chord table. The table is laid out tile by tile (each tile's
 // CVC_TILE_SIZE^2 pixels row by row, then the next tile), in the order the work groups run, so
 // that on a CPU device a frame reads it as one stream. (Laid out by image rows, a tile's rows
 // would lie a wall's width apart, each on a page of its own; docs/benchmarks.md.)
 uint chordTableEntry(uvec2 pixel) {
-    uvec2 tile = pixel / CVC_TILE_SIZE;
     uvec2 inTile = pixel % CVC_TILE_SIZE;
-    uint tilesPerRow = (u.imageSize.x + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE;
-    uint tileIndex = tile.y * tilesPerRow + tile.x;
-    return 2u * (tileIndex * (CVC_TILE_SIZE * CVC_TILE_SIZE) + inTile.y * CVC_TILE_SIZE + inTile.x);
+    uint tile = tileIndexOf(pixel / CVC_TILE_SIZE);
+    return 2u * (tile * (CVC_TILE_SIZE * CVC_TILE_SIZE) + inTile.y * CVC_TILE_SIZE + inTile.x);
 }
 
 // The chord's part inside the box: from its start (or where it enters) to where it leaves, or
