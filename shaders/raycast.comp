@@ -46,7 +46,7 @@ layout(std430, binding = CVC_BINDING_CHORD_TABLE) buffer ChordTable { vec4 chord
 
 const vec3 kBackground = vec3(0.015, 0.017, 0.022);
 const vec3 kSurfaceColor = vec3(0.93, 0.60, 0.50);  // iso-surface albedo, a mucosa tone
-const int kStepsPerSkipCheck = 4;  // iso march: plain steps between looks at the empty-space map
+const int kStepsPerSkipCheck = 4;  // plain steps of the march between looks at the empty-space map
 
 // The straight segment a ray marches: origin + t * dir for t in [tStart, tEnd]. In exact-warp
 // mode it is the undistorted ray, and every sample point is mapped through W.
@@ -366,26 +366,34 @@ void main() {
             // Composite: front-to-back "over" blending of classified, shaded samples.
             vec4 accumulated = vec4(0.0);
             t += jitter * stepAt(s, t);
-            for (int i = 0; i < maxSteps && t <= s.tEnd; ++i) {
-                if (skipEmptySpace(s, invDir, tCheck, skipWait, t, tPrev)) continue;
-                float step = stepAt(s, t);
-                vec3 p = pointAt(s, t);
-                vec4 sampleColor = classify(valueAt(s, t), step);
-                if (sampleColor.a > 1.0 / 1024.0) {
-                    if (tFirst < 0.0) tFirst = t;
-                    // Gradients only for samples that contribute.
-                    vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm - p) : -s.dir;
-                    vec3 normal = normalAt(p, towardEye);
-                    vec3 shaded = shadeCookTorrance(normal, towardEye, t + s.eyeDistance, sampleColor.rgb);
-                    accumulated.rgb += (1.0 - accumulated.a) * sampleColor.a * shaded;
-                    accumulated.a += (1.0 - accumulated.a) * sampleColor.a;
-                    if (hit.w == 0.0 && accumulated.a >= 0.5) {
-                        hit = vec4(kHitOutput == CVC_HIT_OUTPUT_NORMAL ? normal : p, 1.0);
-                    }
-                    if (accumulated.a >= u.opacityToStop) break;  // early ray termination
+            bool isOpaque = false;
+            for (int i = 0; i < maxSteps && !isOpaque && t <= s.tEnd;) {
+                if (skipEmptySpace(s, invDir, tCheck, skipWait, t, tPrev)) {
+                    ++i;
+                    continue;
                 }
-                tPrev = t;
-                t += step;
+                // As in the iso march, the distance map is looked at once per chunk of plain
+                // steps, not before every sample (7 % of the yardstick's composite time).
+                for (int k = 0; k < kStepsPerSkipCheck && !isOpaque && t <= s.tEnd; ++k, ++i) {
+                    float step = stepAt(s, t);
+                    vec3 p = pointAt(s, t);
+                    vec4 sampleColor = classify(valueAt(s, t), step);
+                    if (sampleColor.a > 1.0 / 1024.0) {
+                        if (tFirst < 0.0) tFirst = t;
+                        // Gradients only for samples that contribute.
+                        vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm - p) : -s.dir;
+                        vec3 normal = normalAt(p, towardEye);
+                        vec3 shaded = shadeCookTorrance(normal, towardEye, t + s.eyeDistance, sampleColor.rgb);
+                        accumulated.rgb += (1.0 - accumulated.a) * sampleColor.a * shaded;
+                        accumulated.a += (1.0 - accumulated.a) * sampleColor.a;
+                        if (hit.w == 0.0 && accumulated.a >= 0.5) {
+                            hit = vec4(kHitOutput == CVC_HIT_OUTPUT_NORMAL ? normal : p, 1.0);
+                        }
+                        isOpaque = accumulated.a >= u.opacityToStop;  // early ray termination
+                    }
+                    tPrev = t;
+                    t += step;
+                }
             }
             color = accumulated.rgb + (1.0 - accumulated.a) * kBackground;
         }
