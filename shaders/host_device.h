@@ -59,10 +59,13 @@ using uint = std::uint32_t;
 #define CVC_CHORD_TABLE_NONE 0  // make each chord per ray (two cube-map fetches)
 #define CVC_CHORD_TABLE_READ 1  // read the chords from the chord table
 #define CVC_CHORD_TABLE_FILL 2  // make the chords and write the chord table; no ray is marched
-// The table: per pixel two vec4s, the chord in CAVE axes about the map centre: its start and
-// its distance from the eye; its direction as octahedral coordinates, its length and the map's
-// local scale along the pixel (for the adaptive step).
+// The table, tile by tile: per pixel two vec4s, the chord in CAVE axes about the map centre: its
+// start and its distance from the eye; its direction as octahedral coordinates, its length and
+// the map's local scale along the pixel (for the adaptive step). After a tile's pixels one vec4,
+// its cone bound: how far its chords' starts and directions lie from its centre pixel's, and its
+// longest chord (shaders/ray_start.glsl), which the tile pass reads in place of every chord.
 #define CVC_CHORD_TABLE_BYTES_PER_PIXEL 32
+#define CVC_CHORD_TABLE_BYTES_PER_TILE (CVC_TILE_SIZE * CVC_TILE_SIZE * CVC_CHORD_TABLE_BYTES_PER_PIXEL + 16)
 // A pass over the image's tiles (one invocation per CVC_TILE_SIZE^2 pixels) writes, per tile, a
 // ray parameter before which every ray of the tile crosses only empty cells; the march reads it.
 #define CVC_RAY_START_NONE 0  // rays start where they enter the box

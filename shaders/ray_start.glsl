@@ -11,6 +11,13 @@
 // ball of radius R empty around o + t d, all those points are empty as long as
 // t1 <= (R - alpha + t) / (1 + beta), and t moves there. Pinhole rays share their origin
 // (alpha = 0) and beta is the chord of the tile's angular radius: the usual cone.
+//
+// Chords read from the chord table need not be visited: a pose turns and moves all of a tile's
+// chords alike, so alpha, beta and the longest chord, measured once in CAVE axes when the table
+// is filled (writeTileBound), hold for every frame. The pass then reads one chord and that bound
+// per tile, not the tile's 64 chords. The bound covers every chord of the tile, not only those
+// that meet the box in this frame, and the march starts from t = 0, where every chord starts at
+// or before its own start: both can only make the skip shorter.
 #ifndef RAY_START_GLSL
 #define RAY_START_GLSL
 
@@ -28,27 +35,76 @@ float emptyRadiusMm(vec3 pMm) {
     return (float(max(distanceCells, 1u)) - 1.01) * cellMm;
 }
 
-// The tile pass: writes tile's entry of the table. A tile none of whose rays meets the box
-// gets 0 (its rays do not march anyway).
-void writeTileStart(uvec2 tile) {
+// A tile's pixels within the image (tiles at its right and lower edges may be partial) and the
+// pixel whose ray is the tile's reference.
+struct TilePixels {
+    uvec2 first;
+    uvec2 last;
+    uvec2 centre;
+};
+
+bool isTileInImage(uvec2 tile) {
     uvec2 tiles = (u.imageSize + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE;
-    if (tile.x >= tiles.x || tile.y >= tiles.y) return;
-    uvec2 first = tile * CVC_TILE_SIZE;
-    uvec2 last = min(first + CVC_TILE_SIZE, u.imageSize) - 1u;
-    uvec2 centre = (first + last) / 2u;
-    Segment reference = segmentForPixel(centre);
+    return tile.x < tiles.x && tile.y < tiles.y;
+}
+
+TilePixels tilePixels(uvec2 tile) {
+    TilePixels p;
+    p.first = tile * CVC_TILE_SIZE;
+    p.last = min(p.first + CVC_TILE_SIZE, u.imageSize) - 1u;
+    p.centre = (p.first + p.last) / 2u;
+    return p;
+}
+
+// The chord table's fill, second pass: a tile's cone bound from its chords as the fill wrote
+// them (CAVE axes about the map centre), after its pixels in the table.
+void writeTileBound(uvec2 tile) {
+    if (!isTileInImage(tile)) return;
+    TilePixels pixels = tilePixels(tile);
+    uint centre = chordTableEntry(pixels.centre);
+    vec3 referenceStart = chordTable[centre].xyz;
+    vec3 referenceDir = directionFromOctahedral(chordTable[centre + 1u].xy);
+    float alpha = 0.0;
+    float beta = 0.0;
+    float longest = 0.0;
+    for (uint y = pixels.first.y; y <= pixels.last.y; ++y) {
+        for (uint x = pixels.first.x; x <= pixels.last.x; ++x) {
+            uint entry = chordTableEntry(uvec2(x, y));
+            vec4 direction = chordTable[entry + 1u];
+            alpha = max(alpha, length(chordTable[entry].xyz - referenceStart));
+            beta = max(beta, length(directionFromOctahedral(direction.xy) - referenceDir));
+            longest = max(longest, direction.z);
+        }
+    }
+    chordTable[chordTableBoundEntry(tile)] = vec4(alpha, beta, longest, 0.0);
+}
+
+// The tile pass: writes tile's entry of the table. A tile none of whose rays meets the box
+// gets 0 (its rays do not march anyway), unless its bound came from the chord table.
+void writeTileStart(uvec2 tile) {
+    if (!isTileInImage(tile)) return;
+    TilePixels pixels = tilePixels(tile);
+    Segment reference = segmentForPixel(pixels.centre);
     float alpha = 0.0;
     float beta = 0.0;
     float tFrom = 3.0e38;
     float tTo = -3.0e38;
-    for (uint y = first.y; y <= last.y; ++y) {
-        for (uint x = first.x; x <= last.x; ++x) {
-            Segment s = uvec2(x, y) == centre ? reference : segmentForPixel(uvec2(x, y));
-            if (s.tStart >= s.tEnd) continue;
-            alpha = max(alpha, length(s.origin - reference.origin));
-            beta = max(beta, length(s.dir - reference.dir));
-            tFrom = min(tFrom, s.tStart);
-            tTo = max(tTo, s.tEnd);
+    if (kChordTable == CVC_CHORD_TABLE_READ) {
+        vec4 bound = chordTable[chordTableBoundEntry(tile)];
+        alpha = bound.x;
+        beta = bound.y;
+        tFrom = 0.0;      // no chord starts before its own start
+        tTo = bound.z;    // nor ends past its length
+    } else {
+        for (uint y = pixels.first.y; y <= pixels.last.y; ++y) {
+            for (uint x = pixels.first.x; x <= pixels.last.x; ++x) {
+                Segment s = uvec2(x, y) == pixels.centre ? reference : segmentForPixel(uvec2(x, y));
+                if (s.tStart >= s.tEnd) continue;
+                alpha = max(alpha, length(s.origin - reference.origin));
+                beta = max(beta, length(s.dir - reference.dir));
+                tFrom = min(tFrom, s.tStart);
+                tTo = max(tTo, s.tEnd);
+            }
         }
     }
     float t = tFrom < tTo ? tFrom : 0.0;

@@ -74,15 +74,21 @@ uint tileIndexOf(uvec2 tile) {
     return tile.y * tilesPerRow + tile.x;
 }
 
-// A pixel's first vec4 in the chord table. The table is laid out tile by tile (each tile's
-// CVC_TILE_SIZE^2 pixels row by row, then the next tile), in the order the work groups run, so
-// that on a CPU device a frame reads it as one stream. (Laid out by image rows, a tile's rows
-// would lie a wall's width apart, each on a page of its own; docs/benchmarks.md.)
+// The chord table is laid out tile by tile (each tile's CVC_TILE_SIZE^2 pixels row by row, then
+// its cone bound, then the next tile), in the order the work groups run, so that on a CPU
+// device a frame reads it as one stream. (Laid out by image rows, a tile's rows would lie a
+// wall's width apart, each on a page of its own; docs/benchmarks.md.)
+const uint kChordTableVec4sPerTile = CVC_CHORD_TABLE_BYTES_PER_TILE / 16;
+
+// A pixel's first vec4 in the chord table.
 uint chordTableEntry(uvec2 pixel) {
     uvec2 inTile = pixel % CVC_TILE_SIZE;
     uint tile = tileIndexOf(pixel / CVC_TILE_SIZE);
-    return 2u * (tile * (CVC_TILE_SIZE * CVC_TILE_SIZE) + inTile.y * CVC_TILE_SIZE + inTile.x);
+    return tile * kChordTableVec4sPerTile + 2u * (inTile.y * CVC_TILE_SIZE + inTile.x);
 }
+
+// A tile's cone bound in the chord table (ray_start.glsl), after its pixels' chords.
+uint chordTableBoundEntry(uvec2 tile) { return (tileIndexOf(tile) + 1u) * kChordTableVec4sPerTile - 1u; }
 
 // The chord's part inside the box: from its start (or where it enters) to where it leaves, or
 // to its far end.
@@ -276,8 +282,12 @@ vec3 normalAt(vec3 p, vec3 towardEye) {
 }
 
 void main() {
-    if (kRayStart == CVC_RAY_START_FILL) {
-        writeTileStart(gl_GlobalInvocationID.xy);  // one invocation per tile; no image is written
+    if (kRayStart == CVC_RAY_START_FILL) {  // one invocation per tile; no image is written
+        if (kChordTable == CVC_CHORD_TABLE_FILL) {
+            writeTileBound(gl_GlobalInvocationID.xy);
+        } else {
+            writeTileStart(gl_GlobalInvocationID.xy);
+        }
         return;
     }
     uvec2 pixel = gl_GlobalInvocationID.xy;

@@ -146,7 +146,7 @@ Raycaster::Raycaster(const GpuContext& context, const volumes::Volume& volume, c
       mNoGradientVolume(makeEmptyGradientVolume(context)),
       mNoHitImage(context, vk::Extent3D(1, 1, 1), vk::Format::eR32G32B32A32Sfloat, vk::ImageUsageFlagBits::eStorage,
                   "unused hit position image"),
-      mNoChordTable(context, 2 * CVC_CHORD_TABLE_BYTES_PER_PIXEL, vk::BufferUsageFlagBits::eStorageBuffer,
+      mNoChordTable(context, CVC_CHORD_TABLE_BYTES_PER_TILE, vk::BufferUsageFlagBits::eStorageBuffer,
                     GpuBuffer::Memory::DeviceLocal, "unused chord table"),
       mNoRayStarts(context, 16, vk::BufferUsageFlagBits::eStorageBuffer, GpuBuffer::Memory::DeviceLocal,
                    "unused ray-start table") {
@@ -360,6 +360,7 @@ RenderBatch Raycaster::submit(std::span<const RenderRequest> requests) {
         pipelineFor(settings, requests[i].warp.mode, chordTable, isStartPass ? CVC_RAY_START_READ : CVC_RAY_START_NONE);
         if (chordTables.back().isFilling) {
             pipelineFor(rayPassSettings(), WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
+            rayStartFillPipelineFor(WarpMode::Chord, CVC_CHORD_TABLE_FILL);
         }
         if (isStartPass) rayStartFillPipelineFor(requests[i].warp.mode, chordTable);
     }
@@ -448,8 +449,7 @@ Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, 
     }
     // The table is laid out tile by tile (raycast.comp), whole tiles at the image's edges too.
     const vk::DeviceSize tiles = vk::DeviceSize{tilesAlong(rays.width)} * tilesAlong(rays.height);
-    const vk::DeviceSize pixels = tiles * CVC_TILE_SIZE * CVC_TILE_SIZE;
-    const vk::DeviceSize bytes = pixels * CVC_CHORD_TABLE_BYTES_PER_PIXEL;
+    const vk::DeviceSize bytes = tiles * CVC_CHORD_TABLE_BYTES_PER_TILE;
     use.isFilling = true;
     if (mChordTableBytes + bytes > mChordTableBudgetBytes) {
         // Past the budget the table is filled for this frame alone, in the image's slot, so the
@@ -621,23 +621,30 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
         commands.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eComputeShader,
                                  {}, written, {}, {});
     };
+    // The tile passes (the chord table's cone bounds, the ray starts) run one invocation per
+    // tile: their work groups cover CVC_TILE_SIZE^2 tiles each.
+    const vk::Extent3D tileGroups(tilesAlong(static_cast<int>(imageGroups.width)),
+                                  tilesAlong(static_cast<int>(imageGroups.height)), 1);
     slot.timer.recordStart(commands);  // a table's fill and the tile pass count in the frame
     if (chordTable.isFilling) {
+        // The chords, then each tile's cone bound from them.
         ComputePipeline& fill =
             pipelineFor(rayPassSettings(), WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
         bindResources(fill, set, slot.fillUniforms, targets.color, hitImage, skipDistance, transfer, mNoGradientVolume,
                       chordTexels, mNoRayStarts);
         fill.recordDispatch(commands, imageGroups, {}, set);
+        recordShaderWriteBarrier();
+        ComputePipeline& bounds = rayStartFillPipelineFor(WarpMode::Chord, CVC_CHORD_TABLE_FILL);
+        bindResources(bounds, set, slot.fillUniforms, targets.color, hitImage, skipDistance, transfer,
+                      mNoGradientVolume, chordTexels, mNoRayStarts);
+        bounds.recordDispatch(commands, tileGroups, {}, set);
     }
     // The table may have been filled just now or by an earlier batch still on the queue.
     if (chordTable.table) recordShaderWriteBarrier();
     if (isStartPass) {
-        // One invocation per tile: the pass's work groups cover CVC_TILE_SIZE^2 tiles each.
         ComputePipeline& tilePass = rayStartFillPipelineFor(warp.mode, chordTableUse);
         bindResources(tilePass, set, slot.uniforms, targets.color, hitImage, skipDistance, transfer, mNoGradientVolume,
                       chordTexels, rayStarts);
-        const vk::Extent3D tileGroups(tilesAlong(static_cast<int>(imageGroups.width)),
-                                      tilesAlong(static_cast<int>(imageGroups.height)), 1);
         tilePass.recordDispatch(commands, tileGroups, {}, set);
         recordShaderWriteBarrier();
     }

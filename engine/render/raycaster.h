@@ -91,8 +91,8 @@ public:
     static constexpr int kMaxImagesInFlight = 48;
     /// Chord tables held now (one per display geometry the chord warp has rendered).
     [[nodiscard]] std::size_t chordTableCount() const { return mChordTables.size(); }
-    /// Memory the kept chord tables may take, by default 1 GiB (20 bytes a pixel: the 5-wall
-    /// cabin's stereo walls at full size take 294 MB). A geometry past it gets its table filled
+    /// Memory the kept chord tables may take, by default 1 GiB (32 bytes a pixel and 16 a tile:
+    /// the 5-wall cabin's stereo walls at full size take 453 MB). A geometry past it gets its table filled
     /// anew for each frame: the same images, at the per-ray fetches' cost.
     void setChordTableBudget(std::uint64_t bytes);
 
@@ -131,6 +131,7 @@ private:
 
     ComputePipeline& pipelineFor(const RenderSettings& settings, WarpMode warp, int chordTable, int rayStart);
     /// The tile pass's pipeline for a request's rays: only the ray construction matters to it.
+    /// (With CVC_CHORD_TABLE_FILL: the pass that writes the chord table's cone bounds.)
     ComputePipeline& rayStartFillPipelineFor(WarpMode warp, int chordTable);
     const SampledTexture& skipDistanceFor(const RenderSettings& settings);
     /// The gradient volume where `settings` ask for it, computed on first use; null where they do
