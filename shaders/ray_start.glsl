@@ -16,8 +16,8 @@
 // chords alike, so alpha, beta and the longest chord, measured once in CAVE axes when the table
 // is filled (writeTileBound), hold for every frame. The pass then reads one chord and that bound
 // per tile, not the tile's 64 chords. The bound covers every chord of the tile, not only those
-// that meet the box in this frame, and the march starts from t = 0, where every chord starts at
-// or before its own start: both can only make the skip shorter.
+// that meet the box in this frame, and the cone march starts from t = 0, at or before every
+// chord's own start: both can only make the skip shorter.
 #ifndef RAY_START_GLSL
 #define RAY_START_GLSL
 

@@ -92,8 +92,8 @@ public:
     /// Chord tables held now (one per display geometry the chord warp has rendered).
     [[nodiscard]] std::size_t chordTableCount() const { return mChordTables.size(); }
     /// Memory the kept chord tables may take, by default 1 GiB (32 bytes a pixel and 16 a tile:
-    /// the 5-wall cabin's stereo walls at full size take 453 MB). A geometry past it gets its table filled
-    /// anew for each frame: the same images, at the per-ray fetches' cost.
+    /// the 5-wall cabin's stereo walls at full size take 453 MB). A geometry past it gets its
+    /// table filled anew for each frame: the same images, at the per-ray fetches' cost.
     void setChordTableBudget(std::uint64_t bytes);
 
 private:
