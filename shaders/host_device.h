@@ -108,7 +108,8 @@ struct RaycastUniforms {
     vec3 invSpacingMm;     float lightFalloffPerMm2;  // 1 / spacing; headlight falloff 1 / half distance^2
     // Shading (Cook-Torrance) and the frame
     float roughness;       float fresnelF0;         float ambient;           float chordReachMm;  // a bent ray's far end lies this far beyond the near plane and the eye's offset from c
-    uvec2 imageSize;       uint jitterSeed;         uint padding;            // fills the 16-byte slot
+    uvec2 imageSize;       float transferVisibleFromHu;  float transferVisibleToHu;  // composite: zero opacity outside (from, to)
+    uint jitterSeed;       uint padding0;           uint padding1;           uint padding2;  // fill the 16-byte slot
 };
 
 #ifdef __cplusplus

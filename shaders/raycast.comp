@@ -387,7 +387,11 @@ void main() {
                 for (int k = 0; k < kStepsPerSkipCheck && !isOpaque && t <= s.tEnd; ++k, ++i) {
                     float step = stepAt(s, t);
                     vec3 p = pointAt(s, t);
-                    vec4 sampleColor = classify(valueAt(s, t), step);
+                    float value = valueAt(s, t);
+                    // The table's fetch only where the value can be visible: on lavapipe a branch
+                    // that no ray of the vector takes is passed over, and most samples are air.
+                    vec4 sampleColor = vec4(0.0);
+                    if (isPossiblyVisible(value)) sampleColor = classify(value, step);
                     if (sampleColor.a > 1.0 / 1024.0) {
                         if (tFirst < 0.0) tFirst = t;
                         // Gradients only for samples that contribute.

@@ -17,7 +17,7 @@ namespace engine {
 
 // Every member's offset is compared with the compiled shader's reflection by a test
 // (tests/engine/uniform_layout_test.cpp); this catches a struct that no longer fills its slots.
-static_assert(sizeof(shaders::RaycastUniforms) == 17 * 16, "RaycastUniforms must be 17 16-byte slots (std140)");
+static_assert(sizeof(shaders::RaycastUniforms) == 18 * 16, "RaycastUniforms must be 18 16-byte slots (std140)");
 
 namespace {
 
@@ -544,6 +544,9 @@ shaders::RaycastUniforms Raycaster::uniformsFor(const RenderRequest& request, co
     u.ambient = f(settings.ambient);
     u.chordReachMm = f(farReachMm);
     u.imageSize = glm::uvec2(static_cast<uint32_t>(rays.width), static_cast<uint32_t>(rays.height));
+    const VisibleHuRange visible = visibleHuRangeOf(table);
+    u.transferVisibleFromHu = f(visible.fromHu);
+    u.transferVisibleToHu = f(visible.toHu);
     u.jitterSeed = settings.jitterSeed;
     return u;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace engine {
@@ -68,6 +69,26 @@ TransferTable correctedForStep(const TransferTable& table, double stepMm) {
         entry.a = static_cast<float>(1.0 - std::pow(clear, exponent));
     }
     return corrected;
+}
+
+VisibleHuRange visibleHuRangeOf(const TransferTable& table) {
+    const double unbounded = static_cast<double>(std::numeric_limits<float>::max());
+    const auto n = static_cast<long long>(table.rgba.size());
+    long long first = -1, last = -1;
+    for (long long e = 0; e < n; ++e) {
+        if (table.rgba[static_cast<std::size_t>(e)].a > 0.0f) {
+            if (first < 0) first = e;
+            last = e;
+        }
+    }
+    if (first < 0) return {unbounded, -unbounded};
+    // Entry e sits at firstHu + e * bin; a value between entries blends its two neighbours, so
+    // opacity can be non-zero only strictly between entries first - 1 and last + 1.
+    constexpr long long kMargin = 2;  // that neighbour, and one entry for rounding
+    const double binHu = (table.lastHu - table.firstHu) / static_cast<double>(n - 1);
+    const double fromHu = first - kMargin <= 0 ? -unbounded : table.firstHu + static_cast<double>(first - kMargin) * binHu;
+    const double toHu = last + kMargin >= n - 1 ? unbounded : table.firstHu + static_cast<double>(last + kMargin) * binHu;
+    return {fromHu, toHu};
 }
 
 volumes::OpacityTable opacityTableOf(const TransferTable& table) {

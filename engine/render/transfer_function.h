@@ -54,4 +54,15 @@ TransferTable correctedForStep(const TransferTable& table, double stepMm);
 /// The table's opacities in the form brick selection takes (volumes::bricksForOpacity).
 volumes::OpacityTable opacityTableOf(const TransferTable& table);
 
+/// The open HU interval (fromHu, toHu) outside which the table, read with linear filtering and
+/// clamped at its ends as the shader reads it, gives zero opacity: the entries next to the first
+/// and last visible one, widened by one entry more for the texture unit's rounding of the
+/// coordinate. Unbounded (a float's largest magnitude) on a side whose end entry is visible or
+/// next to one; fromHu > toHu when no entry is visible.
+struct VisibleHuRange {
+    double fromHu;
+    double toHu;
+};
+VisibleHuRange visibleHuRangeOf(const TransferTable& table);
+
 }  // namespace engine

@@ -2,10 +2,14 @@
 // silhouettes against the closed-form projection, hit positions against the surface, and the
 // features that must not change the picture (skipping, adaptive steps at a tiny step, jitter
 // with one seed) or must measurably improve it (refinement of the hit).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -297,6 +301,70 @@ TEST(TransferTable, CorrectionForAStepComposesAsMaterialDoes) {
     }
     EXPECT_THROW(engine::correctedForStep(table, 0.0), std::invalid_argument);
     EXPECT_THROW(engine::correctedForStep(table, std::nan("")), std::invalid_argument);
+}
+
+/// The opacity the shader reads at `hu`: the table sampled with linear filtering, clamped to its
+/// end entries (transfer_function.glsl), evaluated here in double precision.
+double filteredOpacity(const engine::TransferTable& table, double hu) {
+    const auto n = static_cast<long long>(table.rgba.size());
+    const double index = (hu - table.firstHu) * static_cast<double>(n - 1) / (table.lastHu - table.firstHu);
+    const double below = std::floor(index);
+    const double f = index - below;
+    const auto at = [&](double e) {
+        return static_cast<double>(table.rgba[static_cast<std::size_t>(std::clamp(static_cast<long long>(e), 0LL, n - 1))].a);
+    };
+    return (1.0 - f) * at(below) + f * at(below + 1.0);
+}
+
+// The march skips the table's fetch outside the visible range, so every value the filtered
+// table gives an opacity must lie inside it. The range must also be tight: each finite end lies
+// within three entries of a value that is visible (an always-open range would pass the first
+// check and save nothing).
+TEST(TransferTable, VisibleRangeHoldsEveryValueWithOpacity) {
+    std::vector<std::pair<std::string, engine::TransferTable>> tables;
+    for (const std::string& name : engine::transferFunctionPresetNames()) {
+        tables.emplace_back(name, engine::tabulate(engine::transferFunctionPreset(name)));
+    }
+    const glm::vec3 grey(0.5f);
+    const auto spike = [&](int entry, int entries) {
+        engine::TransferTable table = engine::tabulate({"dark", {{-1000.0, grey, 0.0f}, {1000.0, grey, 0.0f}}}, entries);
+        table.rgba[static_cast<std::size_t>(entry)].a = 0.25f;
+        return table;
+    };
+    tables.emplace_back("one visible entry in the middle", spike(37, 101));
+    tables.emplace_back("the first entry visible", spike(0, 101));
+    tables.emplace_back("the second entry visible", spike(1, 101));
+    tables.emplace_back("the last entry visible", spike(100, 101));
+    tables.emplace_back("two entries", spike(1, 2));
+    for (const auto& [what, table] : tables) {
+        const engine::VisibleHuRange range = engine::visibleHuRangeOf(table);
+        const double binHu = (table.lastHu - table.firstHu) / static_cast<double>(table.rgba.size() - 1);
+        const double from = table.firstHu - 20.0 * binHu, to = table.lastHu + 20.0 * binHu;
+        double firstVisible = std::numeric_limits<double>::infinity(), lastVisible = -firstVisible;
+        for (double hu = from; hu <= to; hu += binHu / 64.0) {
+            if (filteredOpacity(table, hu) <= 0.0) continue;
+            firstVisible = std::min(firstVisible, hu);
+            lastVisible = std::max(lastVisible, hu);
+            EXPECT_TRUE(range.fromHu < hu && hu < range.toHu)
+                << what << ": " << hu << " HU has opacity outside (" << range.fromHu << ", " << range.toHu << ")";
+        }
+        ASSERT_LE(firstVisible, lastVisible) << what << ": the sweep found nothing visible";
+        const double unbounded = std::numeric_limits<float>::max();
+        // Unbounded only where the table's end is visible or next to it.
+        if (range.fromHu > -unbounded) {
+            EXPECT_LT(firstVisible - range.fromHu, 3.0 * binHu) << what;
+        } else {
+            EXPECT_LT(firstVisible, table.firstHu + 3.0 * binHu) << what;
+        }
+        if (range.toHu < unbounded) {
+            EXPECT_LT(range.toHu - lastVisible, 3.0 * binHu) << what;
+        } else {
+            EXPECT_GT(lastVisible, table.lastHu - 3.0 * binHu) << what;
+        }
+    }
+    const engine::TransferTable clear = engine::tabulate({"clear", {{-1000.0, grey, 0.0f}, {1000.0, grey, 0.0f}}});
+    const engine::VisibleHuRange none = engine::visibleHuRangeOf(clear);
+    EXPECT_GT(none.fromHu, none.toHu) << "nothing is visible: no value may pass";
 }
 
 TEST_F(Raycasting, NoNaNForCamerasInsideOutsideAndOnTheBox) {
