@@ -129,8 +129,11 @@ void refuseOptionsNotApplying(const CLI::App& command, const RenderOptions& opti
     }
     if (options.warp != "exact") refuseGivenOptions(command, {"--skip-bent-rays"}, "is for --warp exact");
     if (options.isSkippingOff) {
-        refuseGivenOptions(command, {"--skip-cell", "--no-start-pass", "--skip-bent-rays"},
+        refuseGivenOptions(command, {"--skip-cell", "--no-start-pass", "--look-in-every-tile", "--skip-bent-rays"},
                            "sets how empty space is skipped, which --no-skip turns off");
+    }
+    if (options.isStartPassOff) {
+        refuseGivenOptions(command, {"--look-in-every-tile"}, "is for the tile pass, which --no-start-pass turns off");
     }
     if (options.filter == "tricubic" && !options.gradient.empty() && options.gradient != "bspline") {
         throw std::invalid_argument("--gradient " + options.gradient +
@@ -265,6 +268,10 @@ void addRenderCommand(CLI::App& program) {
     command->add_flag("--no-skip", options->isSkippingOff, "Turn off empty-space skipping")->group(rendering);
     command->add_flag("--no-start-pass", options->isStartPassOff,
                       "Skip empty space in the march only, without the pass over 8x8 tiles that starts rays past it")
+        ->group(rendering);
+    command->add_flag("--look-in-every-tile", s.isLookingInEveryTile,
+                      "Keep the march's looks at the empty-space map in every tile, not only where the tile pass "
+                      "finds room to skip ahead (the same image; for benchmarks)")
         ->group(rendering);
     command->add_flag("--skip-bent-rays", s.isSkippingBentRays,
                       "--warp exact: skip empty space along the bent rays too, by the map's speed bound "

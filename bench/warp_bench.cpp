@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/bench_statistics.h"
 #include "conformal/cube_map_baker.h"
 #include "conformal/direction_map.h"
 #include "engine/core/gpu_context.h"
@@ -32,13 +33,6 @@ public:
     glm::dvec3 sceneFromDisplay(const glm::dvec3& display) const override { return glm::normalize(display); }
     glm::dvec3 displayFromScene(const glm::dvec3& scene) const override { return glm::normalize(scene); }
 };
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 /// The largest channel difference of two renders of the same walls, and the share of pixels
 /// more than 2 levels apart.

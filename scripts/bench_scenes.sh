@@ -13,6 +13,7 @@
 #                           polyps in DIR/colon.json)
 #   phantom_inside          array: the colon phantom's inside camera at 1024^2
 #   ct_volume, ct_inside    the 3 mm CT and its camera inside the air-filled colon at 1024^2
+#   ct_camera               that camera without the image size (for cvc_bench's --size N)
 #   make_scenes DIR CVC     makes DIR and both phantoms in it (yardstick_phantom, colon_phantom)
 # Needs Debian's /usr/bin/python3 with python3-numpy, and for VTK python3-vtk9, python3-pil, xvfb.
 
@@ -43,7 +44,8 @@ phantom_inside=(--position 49.182,83.585,107.125 --look-at 51.184,78.381,115.415
                 --size 1024x1024)
 
 ct_volume=../shared/data/ct/ts_example_abdomen_3mm.nrrd
-ct_inside=(--position 150,240,231 --look-at 124.414,235.488,246 --up 0,0,1 --fov 90 --size 1024x1024)
+ct_camera=(--position 150,240,231 --look-at 124.414,235.488,246 --up 0,0,1 --fov 90)
+ct_inside=("${ct_camera[@]}" --size 1024x1024)
 
 make_scenes() {
   mkdir -p "$1"

@@ -77,8 +77,11 @@ using uint = std::uint32_t;
 #define CVC_HIT_OUTPUT_POSITION 1  // the first hit's position, volume mm
 #define CVC_HIT_OUTPUT_NORMAL 2    // tests: the shading normal at the first hit
 // Tests: ray parameters instead of the position: x the ray's own start, y its start after the
-// tile pass, z the first sample that contributes (iso: the refined hit).
+// tile pass, z the first sample that contributes (iso: the refined hit); w the sum of the flags
+// below.
 #define CVC_HIT_OUTPUT_RAY_STARTS 3
+#define CVC_RAY_STARTS_CONTRIBUTES 1.0  // a sample of the ray contributes
+#define CVC_RAY_STARTS_LOOKS 2.0        // the ray's march looks at the distance map
 
 // Work-group size of the image-space shaders (pixels per group along x and y).
 #define CVC_TILE_SIZE 8
@@ -109,7 +112,7 @@ struct RaycastUniforms {
     // Shading (Cook-Torrance) and the frame
     float roughness;       float fresnelF0;         float ambient;           float chordReachMm;  // a bent ray's far end lies this far beyond the near plane and the eye's offset from c
     uvec2 imageSize;       float transferVisibleFromHu;  float transferVisibleToHu;  // composite: zero opacity outside (from, to)
-    uint jitterSeed;       uint padding0;           uint padding1;           uint padding2;  // fill the 16-byte slot
+    uint jitterSeed;       uint isLookingInEveryTile;  uint padding1;        uint padding2;  // 1: the tile pass keeps every tile's march looks; padding fills the slot
 };
 
 #ifdef __cplusplus

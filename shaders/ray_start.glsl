@@ -18,13 +18,23 @@
 // per tile, not the tile's 64 chords. The bound covers every chord of the tile, not only those
 // that meet the box in this frame, and the cone march starts from t = 0, at or before every
 // chord's own start: both can only make the skip shorter.
+//
+// The pass also decides whether the tile's march looks at the distance map at all. Each look
+// runs for the whole vector of rays, and on coarse CT from inside the colon no look finds room
+// to skip (a cell needs an empty cell on every side for that): the looks were pure cost there,
+// 4-12 % of the frame (docs/benchmarks.md). The tile's centre ray is walked cell by cell from
+// the tile's start; the looks stay on only if it meets an empty cell with room to skip (distance
+// 2 or more) before a cell that can contribute. Whatever the answer, a march with a fixed step
+// takes the same samples (but for float rounding of where a skip lands); only its time changes.
 #ifndef RAY_START_GLSL
 #define RAY_START_GLSL
 
 layout(constant_id = CVC_SPEC_RAY_START) const int kRayStart = CVC_RAY_START_NONE;
-layout(std430, binding = CVC_BINDING_RAY_START) buffer RayStartTable { float rayStartTable[]; };
+// Per tile: x where its rays' march may start; y 1 where that march looks at the distance map.
+layout(std430, binding = CVC_BINDING_RAY_START) buffer RayStartTable { vec2 rayStartTable[]; };
 
 const int kMaxTileSkips = 256;  // cone-marching steps of one tile: ample, and a bound
+const int kMaxTileWalkCells = 64;  // cells the look decision walks; undecided after them: looks on
 
 // Radius of a ball around pMm that holds only empty cells: a cell at Chebyshev distance d has
 // d - 1 empty cells beyond its own on every side. Less a hundredth of a cell, for the rounding
@@ -79,6 +89,23 @@ void writeTileBound(uvec2 tile) {
     chordTable[chordTableBoundEntry(tile)] = vec4(alpha, beta, longest, 0.0);
 }
 
+// Whether the march's looks at the distance map can pay along `reference` from t on: walking
+// it cell by cell, an empty cell with room to skip comes before a cell that can contribute (or
+// the walk runs out of cells before it decides). Leaving the box decides no.
+bool isRoomToSkipAhead(Segment reference, float t, float tTo) {
+    vec3 invDir = safeInverse(reference.dir);
+    float nudgeMm = 0.01 * cellVoxels() * minSpacingMm();  // into the next cell, past rounding
+    for (int i = 0; i < kMaxTileWalkCells; ++i) {
+        if (!(t < tTo)) return false;
+        ivec3 cell = cellOf(reference.origin + t * reference.dir);
+        uint distanceCells = skipDistanceAt(cell);
+        if (distanceCells >= 2u) return true;
+        if (distanceCells == 0u) return false;
+        t = max(cellExitT(reference.origin, invDir, cell), t) + nudgeMm;
+    }
+    return true;
+}
+
 // The tile pass: writes tile's entry of the table. A tile none of whose rays meets the box
 // gets 0 (its rays do not march anyway), unless its bound came from the chord table.
 void writeTileStart(uvec2 tile) {
@@ -113,7 +140,8 @@ void writeTileStart(uvec2 tile) {
         if (next < t + u.stepMm) break;  // less than a step gained: the march takes it from here
         t = next;
     }
-    rayStartTable[tileIndexOf(tile)] = t;
+    bool isLooking = u.isLookingInEveryTile != 0u || isRoomToSkipAhead(reference, t, tTo);
+    rayStartTable[tileIndexOf(tile)] = vec2(t, isLooking ? 1.0 : 0.0);
 }
 
 // Where the march along s may start: its tile's entry when that lies beyond s.tStart. With a
@@ -121,10 +149,17 @@ void writeTileStart(uvec2 tile) {
 // the samples, and the image, are those of a march from s.tStart.
 float rayStartOf(Segment s, uvec2 pixel) {
     if (kRayStart != CVC_RAY_START_READ) return s.tStart;
-    float tileStart = rayStartTable[tileIndexOf(pixel / CVC_TILE_SIZE)];
+    float tileStart = rayStartTable[tileIndexOf(pixel / CVC_TILE_SIZE)].x;
     if (!(tileStart > s.tStart)) return s.tStart;
     if (kAdaptive) return tileStart;
     return s.tStart + floor((tileStart - s.tStart) / u.stepMm) * u.stepMm;
+}
+
+// Whether the march of the ray through `pixel` looks at the distance map (the tile pass's
+// decision; without the pass, always).
+bool isLookingInTileOf(uvec2 pixel) {
+    if (kRayStart != CVC_RAY_START_READ) return true;
+    return rayStartTable[tileIndexOf(pixel / CVC_TILE_SIZE)].y > 0.5;
 }
 
 #endif

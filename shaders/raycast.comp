@@ -307,7 +307,10 @@ void main() {
     vec3 color = kBackground;
     vec4 hit = vec4(0.0);
     if (s.tStart < s.tEnd) {
-        float tCheck = -1.0;  // read the distance map at the first sample
+        // Read the distance map at the first sample, or never where the tile pass found that
+        // the looks would find nothing to skip.
+        bool isLooking = kSkipping && isLookingInTileOf(pixel);
+        float tCheck = isLooking ? -1.0 : 3.0e38;
         float skipWait = float(kStepsPerSkipCheck);
         float tPrev = s.tStart;
         float t = s.tStart;
@@ -413,7 +416,11 @@ void main() {
         }
     }
     imageStore(colorImage, ivec2(pixel), vec4(pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0));
-    if (kHitOutput == CVC_HIT_OUTPUT_RAY_STARTS) hit = vec4(tOwnStart, s.tStart, tFirst, tFirst >= 0.0 ? 1.0 : 0.0);
+    if (kHitOutput == CVC_HIT_OUTPUT_RAY_STARTS) {
+        float flags = (tFirst >= 0.0 ? CVC_RAY_STARTS_CONTRIBUTES : 0.0);
+        if (kSkipping && isLookingInTileOf(pixel)) flags += CVC_RAY_STARTS_LOOKS;
+        hit = vec4(tOwnStart, s.tStart, tFirst, flags);
+    }
     if (kCountFetches) hit.w = float(gFetchCount);
     if (kHitOutput != CVC_HIT_OUTPUT_NONE) imageStore(hitImage, ivec2(pixel), hit);
 }

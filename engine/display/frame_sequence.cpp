@@ -385,6 +385,7 @@ std::string sequenceManifest(const SequenceJob& job) {
                             {"skipping", s.isSkipping},
                             {"skip_cell_voxels", s.skipCellVoxels},
                             {"start_pass", s.isUsingRayStartPass},
+                            {"look_in_every_tile", s.isLookingInEveryTile},
                             {"skip_bent_rays", s.isSkippingBentRays},
                             {"adaptive", s.isAdaptive},
                             {"early_termination", s.earlyTerminationOpacity},

@@ -116,7 +116,7 @@ struct Raycaster::Slot {
     GpuBuffer uniforms;
     GpuBuffer fillUniforms;  // the chord table's geometry, for a request that fills one
     std::unique_ptr<GpuBuffer> scratchChordTable;  // filled per frame once the tables' budget is spent
-    std::unique_ptr<GpuBuffer> rayStarts;          // the tile pass's table: a float per tile
+    std::unique_ptr<GpuBuffer> rayStarts;          // the tile pass's table: two floats per tile
     GpuTimer timer;
     std::map<std::pair<int, int>, std::unique_ptr<Targets>> targets;
     Targets* current = nullptr;  // the targets of the image this slot holds now
@@ -548,6 +548,7 @@ shaders::RaycastUniforms Raycaster::uniformsFor(const RenderRequest& request, co
     u.transferVisibleFromHu = f(visible.fromHu);
     u.transferVisibleToHu = f(visible.toHu);
     u.jitterSeed = settings.jitterSeed;
+    u.isLookingInEveryTile = settings.isLookingInEveryTile ? 1u : 0u;
     return u;
 }
 
@@ -595,8 +596,10 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     const int chordTableUse = chordTable.table ? CVC_CHORD_TABLE_READ : CVC_CHORD_TABLE_NONE;
     const bool isStartPass = usesRayStartPass(request);
     const vk::DeviceSize tileCount = vk::DeviceSize{tilesAlong(rays.width)} * tilesAlong(rays.height);
-    if (isStartPass && (!slot.rayStarts || slot.rayStarts->sizeBytes() < tileCount * sizeof(float))) {
-        slot.rayStarts = std::make_unique<GpuBuffer>(*mContext, tileCount * sizeof(float),
+    // Per tile: where its rays start, and whether their march looks at the distance map.
+    const vk::DeviceSize rayStartBytes = tileCount * 2 * sizeof(float);
+    if (isStartPass && (!slot.rayStarts || slot.rayStarts->sizeBytes() < rayStartBytes)) {
+        slot.rayStarts = std::make_unique<GpuBuffer>(*mContext, rayStartBytes,
                                                      vk::BufferUsageFlagBits::eStorageBuffer,
                                                      GpuBuffer::Memory::DeviceLocal, "ray-start table");
     }

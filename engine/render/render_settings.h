@@ -46,6 +46,12 @@ struct RenderSettings {
     /// With skipping (not with the exact warp): a pass over the image's 8x8 tiles first finds
     /// where each tile's rays leave the empty space around them, and the march starts there.
     bool isUsingRayStartPass = true;
+    /// With the tile pass: false lets it turn off the march's own looks at the distance map in
+    /// tiles where they would find nothing to skip (past the tile's start, its centre ray meets a
+    /// cell that can contribute before any empty cell with room to skip); true keeps them in every
+    /// tile (benchmarks compare the two). With a fixed step the samples are the same either way,
+    /// but for float rounding of where a skip lands.
+    bool isLookingInEveryTile = false;
     /// With skipping and the exact warp: skip along the bent rays too, by the map's speed bound
     /// (Raycaster::setSpeedBounds). Off by default: on lavapipe each look costs a map fetch, and
     /// at the demo's pose the frame took 7 % longer with it (docs/benchmarks.md).
@@ -66,7 +72,8 @@ struct RenderSettings {
     bool isWritingNormals = false;                // tests: hitMm's xyz = the shading normal, not the position
     /// Tests: hitMm holds ray parameters (mm along the marched segment) instead: x the ray's own
     /// start, y its start after the tile pass, z the first sample that contributes (iso mode: the
-    /// refined hit), w 1 where one does.
+    /// refined hit), w the flags CVC_RAY_STARTS_* (shaders/host_device.h): 1 where one does, plus
+    /// 2 where the march looks at the distance map.
     bool isWritingRayStarts = false;
     /// Chord warp: keep the scene directions of each pixel's chord ends in a table per display
     /// geometry (wall, eye, scale), filled on first use and read on every later frame; false

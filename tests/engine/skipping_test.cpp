@@ -12,6 +12,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -19,6 +20,7 @@
 #include "conformal/cube_map_speed.h"
 #include "engine/display/display.h"
 #include "engine/render/raycaster.h"
+#include "host_device.h"
 #include "tests/support/gpu_scene.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "tests/support/image_compare.h"
@@ -111,6 +113,33 @@ engine::RenderSettings composite(const std::string& transferFunction) {
     return settings;
 }
 
+/// A 40 mm tube at 0.8 x 0.8 x 0.6 mm, and a view from its axis down its length.
+volumes::TubeSpec wideTube() {
+    volumes::TubeSpec tube;
+    tube.grid.dims = {80, 80, 120};
+    tube.grid.spacingMm = glm::dvec3(0.8, 0.8, 0.6);
+    tube.axisMm = {31.6, 31.4};
+    tube.radiusMm = 20.0;
+    return tube;
+}
+
+engine::ViewRays downTheTube(const volumes::TubeSpec& tube) {
+    const glm::dvec3 eye(tube.axisMm.x, tube.axisMm.y, 5.0);
+    auto camera = cameraToward(eye, eye + glm::dvec3(0.1, 0.0, 1.0), 90.0, 160);
+    camera.up = {0.0, 1.0, 0.0};
+    return engine::viewRaysFrom(camera);
+}
+
+/// The shared 3 mm abdominal CT, and docs/benchmarks.md's camera inside its air-filled colon.
+volumes::Volume abdominalCt() {
+    return volumes::loadVolume(std::string(CVC_SHARED_DATA_DIR) + "/ct/ts_example_abdomen_3mm.nrrd");
+}
+
+engine::ViewRays insideTheCtsColon() {
+    return engine::viewRaysFrom(
+        cameraToward(glm::dvec3(150.0, 240.0, 231.0), glm::dvec3(124.414, 235.488, 246.0), 90.0, 192));
+}
+
 /// The colon phantom at 0.96 mm: its full extent at a sixteenth of the default's voxels.
 volumes::ColonPhantom smallColonPhantom() {
     volumes::ColonPhantomSpec spec;
@@ -175,16 +204,9 @@ TEST_F(RayStart, NeverPastTheFirstHitOnTheBallAndInsideTheTube) {
     coarse.isAdaptive = true;
     expectStartsBeforeFirstHits(ballScene, outside, coarse, {}, "ball, iso, coarse jittered adaptive");
 
-    volumes::TubeSpec tube;
-    tube.grid.dims = {80, 80, 120};
-    tube.grid.spacingMm = glm::dvec3(0.8, 0.8, 0.6);
-    tube.axisMm = {31.6, 31.4};
-    tube.radiusMm = 20.0;
+    const volumes::TubeSpec tube = wideTube();
     Scene tubeScene(context(), volumes::makeTubePhantom(tube));
-    const glm::dvec3 eye(tube.axisMm.x, tube.axisMm.y, 5.0);
-    auto camera = cameraToward(eye, eye + glm::dvec3(0.1, 0.0, 1.0), 90.0, 160);
-    camera.up = {0.0, 1.0, 0.0};
-    const StartGain gain = expectStartsBeforeFirstHits(tubeScene, engine::viewRaysFrom(camera),
+    const StartGain gain = expectStartsBeforeFirstHits(tubeScene, downTheTube(tube),
                                                        iso(0.5 * (tube.lumenHu + tube.wallHu)), {}, "tube, iso");
     EXPECT_GT(gain.meanMm, 5.0) << "inside a 40 mm tube the rays should start well past the eye";
 }
@@ -202,10 +224,8 @@ TEST_F(RayStart, NeverPastTheFirstHitInTheColonPhantomAndTheAbdominalCt) {
     EXPECT_GT(colonGain.movedFraction, 0.5);
     expectStartsBeforeFirstHits(colon, inside, composite("colon-wall"), {}, "colon phantom, composite");
 
-    // The shared 3 mm CT, inside its air-filled colon (docs/benchmarks.md's camera).
-    Scene ct(context(), volumes::loadVolume(std::string(CVC_SHARED_DATA_DIR) + "/ct/ts_example_abdomen_3mm.nrrd"));
-    const auto inCt = engine::viewRaysFrom(
-        cameraToward(glm::dvec3(150.0, 240.0, 231.0), glm::dvec3(124.414, 235.488, 246.0), 90.0, 192));
+    Scene ct(context(), abdominalCt());
+    const engine::ViewRays inCt = insideTheCtsColon();
     for (int cell : {1, 2}) {
         auto settings = iso(-500.0);
         settings.skipCellVoxels = cell;
@@ -222,6 +242,68 @@ TEST_F(RayStart, NeverPastTheFirstHitInTheColonPhantomAndTheAbdominalCt) {
         cameraToward(glm::dvec3(600.0, 150.0, 170.0), glm::dvec3(180.0, 150.0, 170.0), 40.0, 160));
     const StartGain gain = expectStartsBeforeFirstHits(ct, outsideCt, iso(-500.0), {}, "abdominal CT from outside");
     EXPECT_GT(gain.meanMm, 10.0);
+}
+
+/// How the tile pass's decision on the march's looks at the distance map came out on one view.
+struct LookDecision {
+    double lookingFraction = 0.0;  // rays in tiles whose march looks
+    double fetchesPerTile = 0.0;   // volume fetches per ray, the looks decided per tile
+    double fetchesEverywhere = 0.0;  // ... the looks kept in every tile
+};
+
+/// Renders `rays` with the looks decided per tile and kept everywhere: the same image (a fixed
+/// step takes the same samples), and the fetches each took.
+LookDecision expectLooksChangeNoPixel(Scene& scene, const engine::ViewRays& rays, engine::RenderSettings settings,
+                                      const std::string& what) {
+    settings.isWritingHits = true;
+    settings.isWritingRayStarts = true;
+    const engine::RenderedImage flags = scene.raycaster.render(rays, settings, {});
+    settings.isWritingRayStarts = false;
+    settings.isCountingFetches = true;
+    const engine::RenderedImage perTile = scene.raycaster.render(rays, settings, {});
+    settings.isLookingInEveryTile = true;
+    const engine::RenderedImage everywhere = scene.raycaster.render(rays, settings, {});
+    const auto [worst, mean] = colorDifference(perTile, everywhere);
+    EXPECT_EQ(worst, 0) << what;
+    const std::size_t pixels = flags.hitMm.size() / 4;
+    std::size_t looking = 0;
+    double fetchesPerTile = 0.0, fetchesEverywhere = 0.0;
+    for (std::size_t p = 0; p < pixels; ++p) {
+        const int rayFlags = static_cast<int>(flags.hitMm[4 * p + 3]);
+        looking += (rayFlags & static_cast<int>(CVC_RAY_STARTS_LOOKS)) != 0 ? 1 : 0;
+        fetchesPerTile += perTile.hitMm[4 * p + 3];
+        fetchesEverywhere += everywhere.hitMm[4 * p + 3];
+    }
+    LookDecision decision;
+    decision.lookingFraction = static_cast<double>(looking) / static_cast<double>(pixels);
+    decision.fetchesPerTile = fetchesPerTile / static_cast<double>(pixels);
+    decision.fetchesEverywhere = fetchesEverywhere / static_cast<double>(pixels);
+    std::cout << what << ": the march looks in " << 100.0 * decision.lookingFraction << " % of the rays' tiles; "
+              << decision.fetchesPerTile << " fetches per ray, " << decision.fetchesEverywhere
+              << " with looks in every tile\n";
+    return decision;
+}
+
+TEST_F(RayStart, TheMarchLooksAtTheDistanceMapOnlyWhereThereIsRoomToSkip) {
+    // Down a 40 mm tube at 0.8 mm the lumen has room to skip past the tiles' starts: the looks
+    // stay on where they save fetches, and turning them off per tile costs next to none.
+    const volumes::TubeSpec tube = wideTube();
+    Scene tubeScene(context(), volumes::makeTubePhantom(tube));
+    const LookDecision inTube =
+        expectLooksChangeNoPixel(tubeScene, downTheTube(tube), iso(0.5 * (tube.lumenHu + tube.wallHu)), "tube, iso");
+    EXPECT_GT(inTube.lookingFraction, 0.1) << "looking down the tube, the looks should stay on around its axis";
+    EXPECT_LT(inTube.fetchesPerTile, 1.02 * inTube.fetchesEverywhere);
+
+    // Inside the 3 mm CT's colon, 6 mm cells leave no room to skip past the tiles' starts: the
+    // looks are off nearly everywhere, and no fetch is added.
+    Scene ct(context(), abdominalCt());
+    const engine::ViewRays inCt = insideTheCtsColon();
+    for (const auto& [settings, what] : {std::pair{iso(-500.0), std::string("abdominal CT, iso")},
+                                         std::pair{composite("colon-wall"), std::string("abdominal CT, composite")}}) {
+        const LookDecision inColon = expectLooksChangeNoPixel(ct, inCt, settings, what);
+        EXPECT_LT(inColon.lookingFraction, 0.2) << what;
+        EXPECT_LT(inColon.fetchesPerTile, 1.02 * inColon.fetchesEverywhere) << what;
+    }
 }
 
 TEST_F(RayStart, NeverPastTheFirstHitOnTheCabinsBentWalls) {

@@ -32,7 +32,7 @@ const std::map<std::string, std::size_t> kCppOffsets = {
     CVC_MEMBER(skipCellVoxels),  CVC_MEMBER(invSpacingMm),   CVC_MEMBER(lightFalloffPerMm2),
     CVC_MEMBER(roughness),       CVC_MEMBER(fresnelF0),      CVC_MEMBER(ambient),         CVC_MEMBER(chordReachMm),
     CVC_MEMBER(imageSize),       CVC_MEMBER(transferVisibleFromHu), CVC_MEMBER(transferVisibleToHu),
-    CVC_MEMBER(jitterSeed),
+    CVC_MEMBER(jitterSeed),      CVC_MEMBER(isLookingInEveryTile),
 };
 
 #undef CVC_MEMBER

@@ -1,0 +1,101 @@
+#include "bench/skipping_bench.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <map>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_statistics.h"
+#include "engine/core/gpu_context.h"
+#include "engine/render/raycaster.h"
+#include "engine/render/view_rays.h"
+#include "engine/render/volume_texture.h"
+#include "volumes/brick_minmax.h"
+#include "volumes/load_volume.h"
+
+namespace bench {
+namespace {
+
+const std::array<std::string, 3> kVariants = {"none", "per_tile", "every_tile"};
+
+engine::RenderSettings settingsFor(const SkippingBenchRequest& request, double stepVoxels, const std::string& variant) {
+    engine::RenderSettings settings;
+    settings.mode = request.mode == "composite" ? engine::RenderMode::Composite : engine::RenderMode::IsoSurface;
+    settings.isoHu = request.isoHu;
+    settings.transferFunction = request.transferFunction;
+    settings.gradient = request.gradient == "central" ? engine::GradientFilter::Central : engine::GradientFilter::BSpline;
+    settings.isUsingGradientVolume = false;  // as `cvc render` for a still
+    settings.stepVoxels = stepVoxels;
+    settings.isWritingHits = false;
+    settings.isSkipping = variant != "none";
+    settings.isLookingInEveryTile = variant == "every_tile";
+    return settings;
+}
+
+int largestChannelDifference(const engine::RenderedImage& a, const engine::RenderedImage& b) {
+    if (a.rgba.size() != b.rgba.size()) throw std::runtime_error("skipping bench: images of different sizes");
+    int largest = 0;
+    for (std::size_t i = 0; i < a.rgba.size(); ++i) {
+        largest = std::max(largest, std::abs(static_cast<int>(a.rgba[i]) - static_cast<int>(b.rgba[i])));
+    }
+    return largest;
+}
+
+}  // namespace
+
+void runSkippingBench(const SkippingBenchRequest& request) {
+    if (request.runs < 1 || request.runs > 1000) throw std::invalid_argument("--runs must be 1 to 1000");
+    if (request.stepsVoxels.empty() || request.stepsVoxels.size() > 16) throw std::invalid_argument("--steps: 1 to 16 steps");
+    if (request.mode != "iso" && request.mode != "composite") throw std::invalid_argument("--mode: iso or composite");
+    const volumes::Volume volume = volumes::loadVolume(request.volumePath);
+    const volumes::BrickMinMax bricks = volumes::buildBrickMinMax(volume);
+    engine::GpuContext context(engine::GpuContextOptions{false, request.device});
+    engine::VolumeTexture texture(context, volume);
+    engine::Raycaster raycaster(context, volume, texture, bricks);
+    engine::PinholeCamera camera;
+    camera.positionMm = request.positionMm;
+    camera.lookAtMm = request.lookAtMm;
+    camera.up = request.up;
+    camera.verticalFovDeg = request.fovDeg;
+    camera.width = camera.height = request.size;
+    const engine::ViewRays rays = engine::viewRaysFrom(camera);
+
+    nlohmann::json out;
+    out["device"] = context.driverDescription();
+    out["volume"] = request.volumePath;
+    out["mode"] = request.mode;
+    for (const double step : request.stepsVoxels) {
+        std::map<std::string, engine::RenderedImage> images;
+        for (const auto& variant : kVariants) images[variant] = raycaster.render(rays, settingsFor(request, step, variant), {});
+        std::map<std::string, std::vector<double>> times;
+        for (int run = 0; run < request.runs; ++run) {
+            for (std::size_t k = 0; k < kVariants.size(); ++k) {  // each run starts with another variant
+                const std::string& variant = kVariants[(k + static_cast<std::size_t>(run)) % kVariants.size()];
+                times[variant].push_back(raycaster.render(rays, settingsFor(request, step, variant), {}).deviceMs);
+                std::cerr << "skipping: step " << step << ", run " << run + 1 << "/" << request.runs << ", "
+                          << variant << ": " << times[variant].back() << " ms\n";
+            }
+        }
+        nlohmann::json result;
+        result["step_voxels"] = step;
+        result["device_ms"] = times;
+        for (const auto& variant : kVariants) {
+            result["median_ms"][variant] = median(times[variant]);
+            std::vector<double> ratios;
+            for (int run = 0; run < request.runs; ++run) ratios.push_back(times["none"][run] / times[variant][run]);
+            result["median_ratio_none_over"][variant] = median(ratios);
+        }
+        result["largest_channel_difference"] = {
+            {"per_tile_vs_none", largestChannelDifference(images["per_tile"], images["none"])},
+            {"per_tile_vs_every_tile", largestChannelDifference(images["per_tile"], images["every_tile"])}};
+        out["steps"].push_back(result);
+    }
+    std::cout << out.dump(2) << '\n';
+}
+
+}  // namespace bench
