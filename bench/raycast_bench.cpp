@@ -6,6 +6,7 @@
 /// scripts/bench_warp_cost.sh).
 /// `cvc_bench skipping`: empty-space skipping's cost or gain on one pinhole view, per step size
 /// (bench/skipping_bench.h, scripts/bench_march.sh).
+/// `cvc_bench view`: a pinhole view timed as the VTK yardstick times VTK (bench/view_bench.h).
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -22,6 +23,7 @@
 #include "engine/output/png_writer.h"
 #include "engine/render/volume_texture.h"
 #include "bench/skipping_bench.h"
+#include "bench/view_bench.h"
 #include "bench/warp_bench.h"
 #include "sampling_ceiling_spv.h"
 #include "volumes/load_volume.h"
@@ -104,13 +106,6 @@ void runPng(const std::string& imagePath, int runs) {
     std::filesystem::remove(out);
 }
 
-/// An "x,y,z" option into `target`.
-void addPointOption(CLI::App* command, const std::string& name, glm::dvec3& target, const std::string& description) {
-    command->add_option_function<std::vector<double>>(
-        name, [&target](const std::vector<double>& xyz) { target = {xyz[0], xyz[1], xyz[2]}; }, description)
-        ->expected(3)->delimiter(',')->required();
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -148,26 +143,23 @@ int main(int argc, char** argv) {
     bench::SkippingBenchRequest skipping;
     CLI::App* skippingCommand = program.add_subcommand(
         "skipping", "Device time of a pinhole view without skipping, with looks decided per tile, and in every tile");
-    skippingCommand->add_option("volume", skipping.volumePath, "Volume file")->required();
-    addPointOption(skippingCommand, "--position", skipping.positionMm, "Eye position, mm");
-    addPointOption(skippingCommand, "--look-at", skipping.lookAtMm, "Point looked at, mm");
-    addPointOption(skippingCommand, "--up", skipping.up, "Up direction");
-    skippingCommand->add_option("--fov", skipping.fovDeg, "Vertical field of view, degrees")
-        ->check(CLI::Range(1.0, 170.0))->capture_default_str();
-    skippingCommand->add_option("--size", skipping.size, "Pixels per image side")
-        ->check(CLI::Range(8, 4096))->capture_default_str();
-    skippingCommand->add_option("--mode", skipping.mode, "iso or composite")
-        ->check(CLI::IsMember({"iso", "composite"}))->capture_default_str();
-    skippingCommand->add_option("--iso", skipping.isoHu, "Iso value, HU")->capture_default_str();
-    skippingCommand->add_option("--tf", skipping.transferFunction, "Composite mode's transfer function")
-        ->capture_default_str();
-    skippingCommand->add_option("--gradient", skipping.gradient, "Shading normals: bspline or central")
-        ->check(CLI::IsMember({"bspline", "central"}))->capture_default_str();
+    bench::addPinholeSceneOptions(skippingCommand, skipping.scene);
     skippingCommand->add_option("--steps", skipping.stepsVoxels, "Step sizes in voxels")->delimiter(',');
     skippingCommand->add_option("--runs", skipping.runs, "Repetitions of each variant (medians are reported)")
         ->capture_default_str();
-    skippingCommand->add_option("--device", skipping.device, "Vulkan device");
     skippingCommand->callback([&] { bench::runSkippingBench(skipping); });
+    bench::ViewBenchRequest view;
+    CLI::App* viewCommand = program.add_subcommand(
+        "view", "Device time of a pinhole view timed as ../shared/bench/vtk/render.py times VTK's");
+    bench::addPinholeSceneOptions(viewCommand, view.scene);
+    viewCommand->add_option("--step", view.stepVoxels, "Step in voxels")->check(CLI::Range(0.01, 16.0))
+        ->capture_default_str();
+    viewCommand->add_flag("--no-skip{false}", view.isSkipping, "Turn off empty-space skipping");
+    viewCommand->add_option("--skip-cell", view.skipCellVoxels, "Edge in voxels of the empty-space map's cells")
+        ->check(CLI::Range(1, 64))->capture_default_str();
+    viewCommand->add_option("--repeats", view.repeats, "Timed renders after the first (the median is reported)")
+        ->capture_default_str();
+    viewCommand->callback([&] { bench::runViewBench(view); });
     try {
         program.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <map>
@@ -11,27 +10,14 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_statistics.h"
-#include "engine/core/gpu_context.h"
-#include "engine/render/raycaster.h"
-#include "engine/render/view_rays.h"
-#include "engine/render/volume_texture.h"
-#include "volumes/brick_minmax.h"
-#include "volumes/load_volume.h"
 
 namespace bench {
 namespace {
 
 const std::array<std::string, 3> kVariants = {"none", "per_tile", "every_tile"};
 
-engine::RenderSettings settingsFor(const SkippingBenchRequest& request, double stepVoxels, const std::string& variant) {
-    engine::RenderSettings settings;
-    settings.mode = request.mode == "composite" ? engine::RenderMode::Composite : engine::RenderMode::IsoSurface;
-    settings.isoHu = request.isoHu;
-    settings.transferFunction = request.transferFunction;
-    settings.gradient = request.gradient == "central" ? engine::GradientFilter::Central : engine::GradientFilter::BSpline;
-    settings.isUsingGradientVolume = false;  // as `cvc render` for a still
-    settings.stepVoxels = stepVoxels;
-    settings.isWritingHits = false;
+engine::RenderSettings variantSettings(const PinholeScene& scene, double stepVoxels, const std::string& variant) {
+    engine::RenderSettings settings = settingsFor(scene, stepVoxels);
     settings.isSkipping = variant != "none";
     settings.isLookingInEveryTile = variant == "every_tile";
     return settings;
@@ -51,32 +37,24 @@ int largestChannelDifference(const engine::RenderedImage& a, const engine::Rende
 void runSkippingBench(const SkippingBenchRequest& request) {
     if (request.runs < 1 || request.runs > 1000) throw std::invalid_argument("--runs must be 1 to 1000");
     if (request.stepsVoxels.empty() || request.stepsVoxels.size() > 16) throw std::invalid_argument("--steps: 1 to 16 steps");
-    if (request.mode != "iso" && request.mode != "composite") throw std::invalid_argument("--mode: iso or composite");
-    const volumes::Volume volume = volumes::loadVolume(request.volumePath);
-    const volumes::BrickMinMax bricks = volumes::buildBrickMinMax(volume);
-    engine::GpuContext context(engine::GpuContextOptions{false, request.device});
-    engine::VolumeTexture texture(context, volume);
-    engine::Raycaster raycaster(context, volume, texture, bricks);
-    engine::PinholeCamera camera;
-    camera.positionMm = request.positionMm;
-    camera.lookAtMm = request.lookAtMm;
-    camera.up = request.up;
-    camera.verticalFovDeg = request.fovDeg;
-    camera.width = camera.height = request.size;
-    const engine::ViewRays rays = engine::viewRaysFrom(camera);
+    LoadedScene loaded(request.scene);
+    const engine::ViewRays rays = raysFor(request.scene);
 
     nlohmann::json out;
-    out["device"] = context.driverDescription();
-    out["volume"] = request.volumePath;
-    out["mode"] = request.mode;
+    out["device"] = loaded.context.driverDescription();
+    out["volume"] = request.scene.volumePath;
+    out["mode"] = request.scene.mode;
     for (const double step : request.stepsVoxels) {
         std::map<std::string, engine::RenderedImage> images;
-        for (const auto& variant : kVariants) images[variant] = raycaster.render(rays, settingsFor(request, step, variant), {});
+        for (const auto& variant : kVariants) {
+            images[variant] = loaded.raycaster.render(rays, variantSettings(request.scene, step, variant));
+        }
         std::map<std::string, std::vector<double>> times;
         for (int run = 0; run < request.runs; ++run) {
             for (std::size_t k = 0; k < kVariants.size(); ++k) {  // each run starts with another variant
                 const std::string& variant = kVariants[(k + static_cast<std::size_t>(run)) % kVariants.size()];
-                times[variant].push_back(raycaster.render(rays, settingsFor(request, step, variant), {}).deviceMs);
+                const auto settings = variantSettings(request.scene, step, variant);
+                times[variant].push_back(loaded.raycaster.render(rays, settings).deviceMs);
                 std::cerr << "skipping: step " << step << ", run " << run + 1 << "/" << request.runs << ", "
                           << variant << ": " << times[variant].back() << " ms\n";
             }

@@ -18,6 +18,9 @@
 #   4. the yardstick's view in composite mode with our colon-wall transfer function, given to
 #      VTK too (scripts/bench_raycaster.py's VTK worker: the same preset, opacity per mm), and
 #      to cvc with and without skipping, and with the gradient volume;
+#   5. the yardstick's view timed as VTK's is (`cvc_bench view`: the median of 5 renders after
+#      the first, the eye turned 0.3 degrees about the focal point each time; `cvc render` times
+#      its one, first, frame), iso and composite, with the ratio to VTK paired within each round;
 # and, once, the end-to-end time of one still with and without the gradient volume (which is
 # computed before the first frame), and the sampling efficiency: `cvc render --stats` on the
 # yardstick against the plain-trilinear ceiling of `cvc_bench ceiling` on the same volume.
@@ -40,6 +43,11 @@ echo "machine: $(nproc) cores, load average at the start $(cut -d' ' -f1-3 /proc
 
 # Ray-casting milliseconds of one render (pinhole) or one stereo frame (display).
 cvc_ms() { "$cvc" render "$@" --force 2>/dev/null | sed -n 's/.*ray casting \([0-9.]*\) ms.*/\1/p' | tail -1; }
+# The median milliseconds of cvc_bench view on the yardstick's view (VTK's timing protocol).
+warm_ms() {
+  build/bench/cvc_bench view "$out/phantom512.mhd" "${yardstick_camera[@]}" --size 1024 --step 0.5 "$@" 2>/dev/null |
+    /usr/bin/python3 -c 'import json, sys; print(json.load(sys.stdin)["median_ms"])'
+}
 yardstick() { cvc_ms "$out/phantom512.mhd" "${yardstick_inside[@]}" --step 0.5 -o "$out/yardstick.png" "$@"; }
 vtk_ms() { vtk_yardstick_ms "$(cd "$out" && pwd)"; }
 vtk_composite_ms() {
@@ -72,6 +80,9 @@ for ((r = 1; r <= rounds; ++r)); do
     add "yard $gradient nopass" "$(yardstick --iso -500 --gradient "$gradient" --no-start-pass)"
     add "yard $gradient noskip" "$(yardstick --iso -500 --gradient "$gradient" --no-skip)"
   done
+  add "warm central" "$(warm_ms --gradient central)"
+  add "warm central+gv" "$(warm_ms --gradient central --gradient-volume on)"
+  add "warm bspline+gv" "$(warm_ms --gradient bspline --gradient-volume on)"
   add "yard central refine6" "$(yardstick --iso -500 --gradient central --refine 6)"
   add "yard central cell1" "$(yardstick --iso -500 --gradient central --skip-cell 1)"
   add "cabin exact skip" "$(cabin_ms --warp exact --skip-bent-rays)"
@@ -82,6 +93,8 @@ for ((r = 1; r <= rounds; ++r)); do
   add "yard composite skip" "$(yardstick --mode composite --tf colon-wall --gradient central)"
   add "yard composite skip+gv" "$(yardstick --mode composite --tf colon-wall --gradient central --gradient-volume on)"
   add "yard composite noskip" "$(yardstick --mode composite --tf colon-wall --gradient central --no-skip)"
+  add "warm composite" "$(warm_ms --mode composite --tf colon-wall --gradient central)"
+  add "warm composite+gv" "$(warm_ms --mode composite --tf colon-wall --gradient central --gradient-volume on)"
   echo "round $r of $rounds done (load average $(cut -d' ' -f1 /proc/loadavg))"
 done
 median() { printf '%s\n' $1 | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
@@ -124,6 +137,20 @@ echo "| VTK 9.1 CPU ray caster | $(m "vtk composite") | ${times[vtk composite]}|
 for v in skip skip+gv noskip; do
   k="yard composite $v"
   echo "| cvc, central normals, $v | $(m "$k") | ${times[$k]}| $(ratio "$(m "$k")" "$(m "vtk composite")") |"
+done
+# The median over rounds of (cvc's time / VTK's time in the same round).
+paired() {
+  paste <(printf '%s\n' ${times[$1]}) <(printf '%s\n' ${times[$2]}) | awk '{print $1 / $2}' | sort -g |
+    awk '{a[NR]=$1} END {printf "%.2f", (NR % 2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'
+}
+echo
+echo "| yardstick view, warm frames as VTK's (1024^2, 0.5 vx) | ms (median of $rounds) | runs | / VTK, paired per round |"
+echo "|---|---:|---|---:|"
+for k in "warm central" "warm central+gv" "warm bspline+gv"; do
+  echo "| cvc iso, ${k#warm } | $(m "$k") | ${times[$k]}| $(paired "$k" vtk) |"
+done
+for k in "warm composite" "warm composite+gv"; do
+  echo "| cvc ${k#warm }, colon-wall | $(m "$k") | ${times[$k]}| $(paired "$k" "vtk composite") |"
 done
 echo
 ceiling=$(build/bench/cvc_bench ceiling "$out/phantom512.mhd" --size 1024 --steps 100 --runs 5 2>/dev/null | tail -1)

@@ -7,18 +7,19 @@
 #                           MetaImage header names its data file, and VTK renders a file it
 #                           cannot find as empty space without a word)
 #   yardstick_inside        array: cvc render's options for the inside camera at 1024^2
+#   yardstick_camera        that camera without the image size (for cvc_bench's --size N)
 #   vtk_yardstick_ms DIR    VTK's median milliseconds for that view, iso -500 HU, 0.5-voxel
 #                           step; stops the script on a black VTK image
 #   colon_phantom DIR CVC   makes DIR/colon.nrrd with `CVC phantom` once (its centreline and
 #                           polyps in DIR/colon.json)
 #   phantom_inside          array: the colon phantom's inside camera at 1024^2
 #   ct_volume, ct_inside    the 3 mm CT and its camera inside the air-filled colon at 1024^2
-#   ct_camera               that camera without the image size (for cvc_bench's --size N)
+#   ct_camera               that camera without the image size
 #   make_scenes DIR CVC     makes DIR and both phantoms in it (yardstick_phantom, colon_phantom)
 # Needs Debian's /usr/bin/python3 with python3-numpy, and for VTK python3-vtk9, python3-pil, xvfb.
 
-yardstick_inside=(--position 218.1386,207.6363,108.24 --look-at 216.0219,207.1811,148.24 --up 0,1,0
-                  --fov 60 --size 1024x1024)
+yardstick_camera=(--position 218.1386,207.6363,108.24 --look-at 216.0219,207.1811,148.24 --up 0,1,0 --fov 60)
+yardstick_inside=("${yardstick_camera[@]}" --size 1024x1024)
 
 yardstick_phantom() {
   local dir
