@@ -271,7 +271,7 @@ void addRenderCommand(CLI::App& program) {
         ->group(rendering);
     command->add_flag("--look-in-every-tile", s.isLookingInEveryTile,
                       "Keep the march's looks at the empty-space map in every tile, not only where the tile pass "
-                      "finds room to skip ahead (the same image; for benchmarks)")
+                      "finds room to skip ahead (the same samples; for benchmarks)")
         ->group(rendering);
     command->add_flag("--skip-bent-rays", s.isSkippingBentRays,
                       "--warp exact: skip empty space along the bent rays too, by the map's speed bound "

@@ -30,7 +30,8 @@ void addPinholeSceneOptions(CLI::App* command, PinholeScene& scene) {
     addPointOption(command, "--up", scene.up, "Up direction");
     command->add_option("--fov", scene.fovDeg, "Vertical field of view, degrees")
         ->check(CLI::Range(1.0, 170.0))->capture_default_str();
-    command->add_option("--size", scene.size, "Pixels per image side")->check(CLI::Range(8, 4096))->capture_default_str();
+    command->add_option("--size", scene.size, "Pixels per image side")
+        ->check(CLI::Range(8, 4096))->capture_default_str();
     command->add_option("--mode", scene.mode, "iso or composite")
         ->check(CLI::IsMember({"iso", "composite"}))->capture_default_str();
     command->add_option("--iso", scene.isoHu, "Iso value, HU")->capture_default_str();

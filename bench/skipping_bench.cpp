@@ -36,7 +36,9 @@ int largestChannelDifference(const engine::RenderedImage& a, const engine::Rende
 
 void runSkippingBench(const SkippingBenchRequest& request) {
     if (request.runs < 1 || request.runs > 1000) throw std::invalid_argument("--runs must be 1 to 1000");
-    if (request.stepsVoxels.empty() || request.stepsVoxels.size() > 16) throw std::invalid_argument("--steps: 1 to 16 steps");
+    if (request.stepsVoxels.empty() || request.stepsVoxels.size() > 16) {
+        throw std::invalid_argument("--steps: 1 to 16 steps");
+    }
     LoadedScene loaded(request.scene);
     const engine::ViewRays rays = raysFor(request.scene);
 

@@ -24,8 +24,9 @@
 // to skip (a cell needs an empty cell on every side for that): the looks were pure cost there,
 // 4-12 % of the frame (docs/benchmarks.md). The tile's centre and corner rays are walked cell by
 // cell from the tile's start; the looks stay on only if one of them meets an empty cell with
-// room to skip (distance 2 or more) before a cell that can contribute. Whatever the answer, a march with a fixed step
-// takes the same samples (but for float rounding of where a skip lands); only its time changes.
+// room to skip (distance 2 or more) before a cell that can contribute. Whatever the answer, a
+// march with a fixed step takes the same samples (but for float rounding of where a skip
+// lands); only its time changes.
 #ifndef RAY_START_GLSL
 #define RAY_START_GLSL
 

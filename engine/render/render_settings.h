@@ -47,9 +47,9 @@ struct RenderSettings {
     /// where each tile's rays leave the empty space around them, and the march starts there.
     bool isUsingRayStartPass = true;
     /// With the tile pass: false lets it turn off the march's own looks at the distance map in
-    /// tiles where they would find nothing to skip (past the tile's start, its centre ray meets a
-    /// cell that can contribute before any empty cell with room to skip); true keeps them in every
-    /// tile (benchmarks compare the two). With a fixed step the samples are the same either way,
+    /// tiles where they would find nothing to skip (past the tile's start, its centre and corner
+    /// rays each meet a cell that can contribute before any empty cell with room to skip); true
+    /// keeps them in every tile (benchmarks compare the two). With a fixed step the samples are the same either way,
     /// but for float rounding of where a skip lands.
     bool isLookingInEveryTile = false;
     /// With skipping and the exact warp: skip along the bent rays too, by the map's speed bound
