@@ -7,6 +7,9 @@
 //   equal those without.
 // - Exact-warped rays, bent at every sample, skip by the map's speed bound: the same hits and
 //   images as without skipping, on the cabin's stereo walls at two scales.
+// - The tile pass's decision whether the march looks at the distance map: on down a wide tube,
+//   where the looks save fetches; off inside the CT's colon, where they find nothing; the image
+//   the same either way.
 #include <algorithm>
 #include <cmath>
 #include <iostream>
