@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_statistics.h"
+#include "bench/image_difference.h"
 
 namespace bench {
 namespace {
@@ -21,15 +22,6 @@ engine::RenderSettings variantSettings(const PinholeScene& scene, double stepVox
     settings.isSkipping = variant != "none";
     settings.isLookingInEveryTile = variant == "every_tile";
     return settings;
-}
-
-int largestChannelDifference(const engine::RenderedImage& a, const engine::RenderedImage& b) {
-    if (a.rgba.size() != b.rgba.size()) throw std::runtime_error("skipping bench: images of different sizes");
-    int largest = 0;
-    for (std::size_t i = 0; i < a.rgba.size(); ++i) {
-        largest = std::max(largest, std::abs(static_cast<int>(a.rgba[i]) - static_cast<int>(b.rgba[i])));
-    }
-    return largest;
 }
 
 }  // namespace
@@ -70,9 +62,11 @@ void runSkippingBench(const SkippingBenchRequest& request) {
             for (int run = 0; run < request.runs; ++run) ratios.push_back(times["none"][run] / times[variant][run]);
             result["median_ratio_none_over"][variant] = median(ratios);
         }
-        result["largest_channel_difference"] = {
-            {"per_tile_vs_none", largestChannelDifference(images["per_tile"], images["none"])},
-            {"per_tile_vs_every_tile", largestChannelDifference(images["per_tile"], images["every_tile"])}};
+        ImageDifference againstNone, againstEveryTile;
+        againstNone.add(images["per_tile"], images["none"]);
+        againstEveryTile.add(images["per_tile"], images["every_tile"]);
+        result["largest_channel_difference"] = {{"per_tile_vs_none", againstNone.largestChannel},
+                                                {"per_tile_vs_every_tile", againstEveryTile.largestChannel}};
         out["steps"].push_back(result);
     }
     std::cout << out.dump(2) << '\n';
