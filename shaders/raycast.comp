@@ -304,13 +304,14 @@ void main() {
     int maxSteps = int(u.maxSteps);
     float iso = u.isoHu;
 
+    // Whether the march looks at the distance map: not where the tile pass found that the looks
+    // would find nothing to skip.
+    bool isLooking = kSkipping && isLookingInTileOf(pixel);
+
     vec3 color = kBackground;
     vec4 hit = vec4(0.0);
     if (s.tStart < s.tEnd) {
-        // Read the distance map at the first sample, or never where the tile pass found that
-        // the looks would find nothing to skip.
-        bool isLooking = kSkipping && isLookingInTileOf(pixel);
-        float tCheck = isLooking ? -1.0 : 3.0e38;
+        float tCheck = isLooking ? -1.0 : 3.0e38;  // read the distance map at the first sample, or never
         float skipWait = float(kStepsPerSkipCheck);
         float tPrev = s.tStart;
         float t = s.tStart;
@@ -418,7 +419,7 @@ void main() {
     imageStore(colorImage, ivec2(pixel), vec4(pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0));
     if (kHitOutput == CVC_HIT_OUTPUT_RAY_STARTS) {
         float flags = (tFirst >= 0.0 ? CVC_RAY_STARTS_CONTRIBUTES : 0.0);
-        if (kSkipping && isLookingInTileOf(pixel)) flags += CVC_RAY_STARTS_LOOKS;
+        if (isLooking) flags += CVC_RAY_STARTS_LOOKS;
         hit = vec4(tOwnStart, s.tStart, tFirst, flags);
     }
     if (kCountFetches) hit.w = float(gFetchCount);
