@@ -63,14 +63,17 @@ void runWarpBench(const WarpBenchRequest& request) {
     settings.stepVoxels = 1.0;
     settings.lightHalfDistanceMm = 25.0;
     settings.gradient = engine::GradientFilter::Central;
+    settings.isWritingHits = false;  // as display frames without --hits
     const engine::Eye eyes[] = {engine::Eye::Left, engine::Eye::Right};
     conformalCaster.setCubeMap(map.size, map.rgba);
     identityCaster.setCubeMap(identity.size, identity.rgba);
     // "identity" reads the chord table (the default); "identity_per_ray" fetches the two texels
     // per ray, as every frame did before the table.
     const std::array<std::string, 4> modes = {"conformal", "identity", "identity_per_ray", "none"};
-    const auto renderMode = [&](const std::string& mode) {
+    const auto renderMode = [&](const std::string& mode, bool isCountingFetches = false) {
         engine::RenderSettings modeSettings = settings;
+        modeSettings.isWritingHits = isCountingFetches;
+        modeSettings.isCountingFetches = isCountingFetches;
         modeSettings.isUsingChordTable = mode != "identity_per_ray";
         engine::Raycaster& raycaster = mode == "conformal" ? conformalCaster : identityCaster;
         return engine::renderWalls(raycaster, display, scenePose, eyes, modeSettings,
@@ -82,6 +85,17 @@ void runWarpBench(const WarpBenchRequest& request) {
         return ms;
     };
 
+    // Volume fetches per ray, from one counted render per mode (counting is a pipeline of its
+    // own, so the timed renders below do not count).
+    std::map<std::string, double> fetchesPerRay;
+    for (const auto& mode : modes) {
+        double fetches = 0.0, rays = 0.0;
+        for (const auto& wall : renderMode(mode, true)) {
+            for (std::size_t p = 3; p < wall.image.hitMm.size(); p += 4) fetches += wall.image.hitMm[p];
+            rays += static_cast<double>(wall.image.hitMm.size() / 4);
+        }
+        fetchesPerRay[mode] = rays > 0.0 ? fetches / rays : 0.0;
+    }
     std::map<std::string, std::vector<double>> times;
     for (const auto& mode : modes) renderMode(mode);  // warm: pipelines built, caches filled
     ImageDifference identityAgainstNone;
@@ -110,6 +124,7 @@ void runWarpBench(const WarpBenchRequest& request) {
     out["device"] = context.driverDescription();
     out["device_ms"] = times;
     for (const auto& mode : modes) out["median_ms"][mode] = median(times[mode]);
+    out["fetches_per_ray"] = fetchesPerRay;
     out["median_ratio"] = {{"identity_over_none", median(identityRatio)},
                            {"identity_per_ray_over_none", median(perRayRatio)},
                            {"conformal_over_none", median(conformalRatio)}};
