@@ -26,6 +26,8 @@ import time
 
 import numpy as np
 
+from bench_images import read_nrrd, spacing_of
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 CVC = os.path.join(ROOT, "build", "app", "cvc")
 VOLUMES_BENCH = os.path.join(ROOT, "build", "tests", "volumes", "volumes_bench")
@@ -39,17 +41,10 @@ def run(args):
     return result
 
 
-def read_nrrd(path):
-    """An uncompressed int16 NRRD as written by cvc: (voxels as [z, y, x], spacing)."""
-    with open(path, "rb") as f:
-        data = f.read()
-    header, payload = data.split(b"\n\n", 1)
-    sizes = [int(v) for v in re.search(rb"sizes: (\d+) (\d+) (\d+)", header).groups()]
-    directions = re.search(rb"space directions: (.*)", header).group(1).decode()
-    vectors = [np.array([float(x) for x in v.split(",")]) for v in re.findall(r"\(([^)]*)\)", directions)]
-    spacing = np.array([np.linalg.norm(v) for v in vectors])
-    voxels = np.frombuffer(payload, dtype="<i2").reshape(sizes[2], sizes[1], sizes[0])
-    return voxels, spacing
+def read_volume(path):
+    """An uncompressed NRRD volume: (voxels as [z, y, x], spacing per axis)."""
+    fields, voxels = read_nrrd(path)
+    return voxels, np.array(spacing_of(fields))
 
 
 def distances_to_polyline(points, line):
@@ -95,7 +90,7 @@ def phantom_row(out, name, phantom_args):
         kept &= ~((arc >= s0) & (arc <= s1))
     coverage = float((back[kept] < 3.0).mean())
     rendered = os.path.join(folder, "cleansed.nrrd")
-    voxels, spacing = read_nrrd(rendered if os.path.exists(rendered) else volume)
+    voxels, spacing = read_volume(rendered if os.path.exists(rendered) else volume)
     air = in_air(computed, voxels, spacing)
     # The analysis runs rectum -> caecum; the phantom's truth caecum -> rectum.
     order_ok = np.linalg.norm(computed[0] - line[-1]) < np.linalg.norm(computed[0] - line[0])
@@ -137,7 +132,7 @@ def main():
     folder = os.path.join(args.out, "abdomen_ct")
     run([CVC, "colon", CT, "-o", folder, "--force"])
     report = json.load(open(os.path.join(folder, "colon.json")))
-    voxels, spacing = read_nrrd(CT)
+    voxels, spacing = read_volume(CT)
     computed = np.array(report["centreline_mm"])
     print("\nShared 3 mm abdominal CT:\n")
     print("| segment | length mm | volume mL | mean lumen radius mm | gap to next mm |")
