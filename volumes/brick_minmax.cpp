@@ -9,6 +9,17 @@
 namespace volumes {
 namespace {
 
+/// The voxels along one axis whose values brick `brick` depends on: its own and the one-voxel
+/// apron on each side that trilinear filtering reads, clamped to the axis's n voxels.
+struct BrickWindow {
+    int first;
+    int last;
+};
+
+BrickWindow brickWindowOf(int brick, int brickSize, int n) {
+    return {std::max(brick * brickSize - 1, 0), std::min(brick * brickSize + brickSize, n - 1)};
+}
+
 /// Min/max over the apron-widened brick windows along one axis of a 3D array.
 ///
 /// `in` has extents (n0, n1, n2) with the reduced axis `axis`; the output has the same
@@ -35,13 +46,12 @@ void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& i
         parallelFor(outer * bricks, [&](int item) {
             const auto block = static_cast<std::size_t>(item / bricks);
             const int brick = item % bricks;
-            const int first = std::max(brick * brickSize - 1, 0);
-            const int last = std::min(brick * brickSize + brickSize, n - 1);
+            const BrickWindow window = brickWindowOf(brick, brickSize, n);
             int16_t* lo = outMin.data() + (block * bricks + static_cast<std::size_t>(brick)) * inner;
             int16_t* hi = outMax.data() + (block * bricks + static_cast<std::size_t>(brick)) * inner;
             std::fill_n(lo, inner, std::numeric_limits<int16_t>::max());
             std::fill_n(hi, inner, std::numeric_limits<int16_t>::min());
-            for (int v = first; v <= last; ++v) {
+            for (int v = window.first; v <= window.last; ++v) {
                 const std::size_t row = (block * static_cast<std::size_t>(n) + static_cast<std::size_t>(v)) * inner;
                 const int16_t* rowMin = inMin.data() + row;
                 const int16_t* rowMax = inMax.data() + row;
@@ -61,10 +71,9 @@ void reduceAxis(const std::vector<int16_t>& inMin, const std::vector<int16_t>& i
             const int16_t* lineMin = inMin.data() + line * static_cast<std::size_t>(n);
             const int16_t* lineMax = inMax.data() + line * static_cast<std::size_t>(n);
             for (int brick = 0; brick < bricks; ++brick) {
-                const int first = std::max(brick * brickSize - 1, 0);
-                const int last = std::min(brick * brickSize + brickSize, n - 1);
+                const BrickWindow window = brickWindowOf(brick, brickSize, n);
                 int16_t lo = std::numeric_limits<int16_t>::max(), hi = std::numeric_limits<int16_t>::min();
-                for (int v = first; v <= last; ++v) {
+                for (int v = window.first; v <= window.last; ++v) {
                     lo = std::min(lo, lineMin[v]);
                     hi = std::max(hi, lineMax[v]);
                 }
