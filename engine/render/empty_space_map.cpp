@@ -84,25 +84,26 @@ std::vector<uint8_t> chebyshevDistanceMap(const std::vector<uint8_t>& isOccupied
         }
     });
 
-    // Pass 3: the envelope along z, for a block of neighbouring x at a time (they share cache
-    // lines when the line is gathered and written back).
+    // Pass 3: the envelope along z, one y row of the grid per job (its buffers made once), in
+    // blocks of neighbouring x (they share cache lines when the lines are gathered and written
+    // back).
     constexpr int kBlock = 16;
-    const int blocksPerRow = (nx + kBlock - 1) / kBlock;
-    volumes::parallelFor(ny * blocksPerRow, [&](int job) {
-        const int y = job / blocksPerRow;
-        const int x0 = (job % blocksPerRow) * kBlock;
-        const int width = std::min(kBlock, nx - x0);
+    volumes::parallelFor(ny, [&](int y) {
         std::vector<int> lines(static_cast<std::size_t>(kBlock) * nz), result(static_cast<std::size_t>(nz)),
             owner(result.size()), from(result.size());
-        const std::size_t base = static_cast<std::size_t>(y) * nx + x0;
-        for (int z = 0; z < nz; ++z) {
-            const uint8_t* source = d.data() + base + static_cast<std::size_t>(z) * sliceSize;
-            for (int k = 0; k < width; ++k) lines[static_cast<std::size_t>(k) * nz + z] = source[k];
-        }
-        for (int k = 0; k < width; ++k) {
-            chessboardLine(lines.data() + static_cast<std::size_t>(k) * nz, result.data(), nz, owner.data(), from.data());
+        for (int x0 = 0; x0 < nx; x0 += kBlock) {
+            const int width = std::min(kBlock, nx - x0);
+            const std::size_t base = static_cast<std::size_t>(y) * nx + x0;
             for (int z = 0; z < nz; ++z) {
-                d[base + static_cast<std::size_t>(z) * sliceSize + k] = static_cast<uint8_t>(result[static_cast<std::size_t>(z)]);
+                const uint8_t* source = d.data() + base + static_cast<std::size_t>(z) * sliceSize;
+                for (int k = 0; k < width; ++k) lines[static_cast<std::size_t>(k) * nz + z] = source[k];
+            }
+            for (int k = 0; k < width; ++k) {
+                chessboardLine(lines.data() + static_cast<std::size_t>(k) * nz, result.data(), nz, owner.data(), from.data());
+                for (int z = 0; z < nz; ++z) {
+                    d[base + static_cast<std::size_t>(z) * sliceSize + k] =
+                        static_cast<uint8_t>(result[static_cast<std::size_t>(z)]);
+                }
             }
         }
     });
