@@ -115,9 +115,14 @@ VolumeTexture::VolumeTexture(const GpuContext& context, const volumes::Volume& v
 std::vector<int16_t> VolumeTexture::readBackHu() const {
     std::vector<int16_t> hu(static_cast<std::size_t>(mDims[0]) * static_cast<std::size_t>(mDims[1]) *
                             static_cast<std::size_t>(mDims[2]));
+    std::unique_ptr<GpuBuffer> buffer;  // one staging buffer, made for the first (the largest) slab
     forEachSlab(mDims, sizeof(uint16_t), [&](int firstZ, int depth, vk::DeviceSize sliceBytes) {
-        GpuBuffer readback(*mContext, sliceBytes * static_cast<vk::DeviceSize>(depth), vk::BufferUsageFlagBits::eTransferDst,
-                           GpuBuffer::Memory::HostVisible, "volume readback");
+        const vk::DeviceSize slabBytes = sliceBytes * static_cast<vk::DeviceSize>(depth);
+        if (!buffer || buffer->sizeBytes() < slabBytes) {
+            buffer = std::make_unique<GpuBuffer>(*mContext, slabBytes, vk::BufferUsageFlagBits::eTransferDst,
+                                                 GpuBuffer::Memory::HostVisible, "volume readback");
+        }
+        const GpuBuffer& readback = *buffer;
         submitAndWait(*mContext, [&](const vk::raii::CommandBuffer& commands) {
             recordImageBarrier(commands, mImage, vk::ImageLayout::eShaderReadOnlyOptimal, vk::ImageLayout::eTransferSrcOptimal);
             vk::BufferImageCopy region(0, 0, 0, vk::ImageSubresourceLayers(vk::ImageAspectFlagBits::eColor, 0, 0, 1),
