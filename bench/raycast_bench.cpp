@@ -157,6 +157,11 @@ int main(int argc, char** argv) {
     viewCommand->add_flag("--no-skip{false}", view.isSkipping, "Turn off empty-space skipping");
     viewCommand->add_option("--skip-cell", view.skipCellVoxels, "Edge in voxels of the empty-space map's cells")
         ->check(CLI::Range(1, 64))->capture_default_str();
+    viewCommand->add_option("--filter", view.filter, "trilinear or tricubic")
+        ->check(CLI::IsMember({"trilinear", "tricubic"}))->capture_default_str();
+    viewCommand->add_option("--refine", view.refinementSteps, "Iso mode: bisection steps refining each hit")
+        ->capture_default_str();
+    viewCommand->add_flag("--adaptive", view.isAdaptive, "Lengthen steps where a pixel covers more than a voxel");
     viewCommand->add_option("--repeats", view.repeats, "Timed renders after the first (the median is reported)")
         ->capture_default_str();
     viewCommand->callback([&] { bench::runViewBench(view); });

@@ -17,6 +17,9 @@ void runViewBench(const ViewBenchRequest& request) {
     engine::RenderSettings settings = settingsFor(request.scene, request.stepVoxels);
     settings.isSkipping = request.isSkipping;
     settings.skipCellVoxels = request.skipCellVoxels;
+    settings.filter = request.filter == "tricubic" ? engine::VolumeFilter::Tricubic : engine::VolumeFilter::Trilinear;
+    settings.refinementSteps = request.refinementSteps;
+    settings.isAdaptive = request.isAdaptive;
     const double firstMs = loaded.raycaster.render(raysFor(request.scene), settings).deviceMs;
     std::vector<double> times;
     for (int repeat = 1; repeat <= request.repeats; ++repeat) {

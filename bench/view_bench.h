@@ -5,6 +5,8 @@
 /// time of each render (`cvc render` prints that of its one, first, frame).
 #pragma once
 
+#include <string>
+
 #include "bench/pinhole_scene.h"
 
 namespace bench {
@@ -14,6 +16,9 @@ struct ViewBenchRequest {
     double stepVoxels = 0.5;
     bool isSkipping = true;
     int skipCellVoxels = 2;
+    std::string filter = "trilinear";  // or "tricubic"
+    int refinementSteps = 2;           // iso mode's bisection steps, as `cvc render --refine`
+    bool isAdaptive = false;           // as `cvc render --adaptive`
     int repeats = 5;
     double azimuthStepDeg = 0.3;
 };

@@ -70,6 +70,15 @@ class Cvc:
                           fetches_per_s=float(m.group(3)))
         return result
 
+    def view(self, volume, camera, options):
+        """`cvc_bench view`: the median device time of 5 renders after a first one, the eye turned
+        0.3 degrees about the focal point before each, as VTK's renders are timed; and the first."""
+        side = camera["size"].split("x")[0]
+        out = self.run(["view", volume, "--position", camera["position"], "--look-at", camera["look_at"],
+                        "--up", camera["up"], "--fov", camera["fov"], "--size", side] + options, tool=self.bench)
+        result = json.loads(out.strip().splitlines()[-1])
+        return {"median_ms": result["median_ms"], "first_ms": result["first_ms"]}
+
     def ceiling(self, volume, size, steps, runs):
         out = self.run(["ceiling", volume, "--size", size, "--steps", steps, "--runs", runs], tool=self.bench)
         return json.loads(out[out.index("{"): out.rindex("}") + 1])
@@ -195,7 +204,9 @@ def label_of(c, mode):
 
 
 def options_of(c, mode, iso):
-    o = ["--mode", mode, "--step", c["step"], "--filter", c["filter"]]
+    # Normals from the gradient volume: computed once per volume, as VTK computes its gradients
+    # before its first render; the same normals as from the volume's taps but for rounding.
+    o = ["--mode", mode, "--step", c["step"], "--filter", c["filter"], "--gradient-volume", "on"]
     if mode == "iso":
         o += ["--iso", iso, "--refine", c["refine"]]
     else:
@@ -221,18 +232,20 @@ def run_sweep(cvc, scene, mode, configs, runs, work, log):
     log(f"[{tag}] trilinear reference (step {REFERENCE['step']} vx, trilinear, refine 12)")
     cvc.render(scene["volume"], scene["camera"], options_of(dict(REFERENCE, filter="trilinear"), mode, scene["iso"]),
                lin_png, hits=lin_hits)
-    points = [dict(c, label=label_of(c, mode), times=[]) for c in configs]
+    points = [dict(c, label=label_of(c, mode), times=[], first_times=[]) for c in configs]
+    for n, p in enumerate(points):  # the images and hits (renders are deterministic: once is enough)
+        cvc.render(scene["volume"], scene["camera"], options_of(p, mode, scene["iso"]),
+                   os.path.join(work, f"{tag}_{n}.png"), hits=os.path.join(work, f"{tag}_{n}_hits.nrrd"))
     for r in range(runs):
         log(f"[{tag}] round {r + 1}/{runs} of {len(points)} points")
-        for n, p in enumerate(points):
-            png = os.path.join(work, f"{tag}_{n}.png")
-            hits = os.path.join(work, f"{tag}_{n}_hits.nrrd") if r == 0 else None
-            result = cvc.render(scene["volume"], scene["camera"], options_of(p, mode, scene["iso"]),
-                                png if r == 0 else os.path.join(work, "scratch.png"), hits=hits)
-            p["times"].append(result["device_ms"])
+        for p in points:
+            timed = cvc.view(scene["volume"], scene["camera"], options_of(p, mode, scene["iso"]))
+            p["times"].append(timed["median_ms"])
+            p["first_times"].append(timed["first_ms"])
     for n, p in enumerate(points):
         p["png"], p["hits"] = os.path.join(work, f"{tag}_{n}.png"), os.path.join(work, f"{tag}_{n}_hits.nrrd")
         p["ms"] = statistics.median(p["times"])
+        p["first_ms"] = statistics.median(p["first_times"])
         p.update(image_errors(os.path.join(work, f"{tag}_{n}.png"), ref_png))
         p.update(hit_errors(os.path.join(work, f"{tag}_{n}_hits.nrrd"), ref_hits))
         lin = image_errors(os.path.join(work, f"{tag}_{n}.png"), lin_png)
@@ -496,8 +509,14 @@ def efficiency(cvc, scene, runs, work, log, size):
         log(f"[efficiency] round {r + 1}/{runs}")
         ceilings.append(cvc.ceiling(scene["volume"], size, 80, 5))
         for name, options in configs:
-            rows[name].append(cvc.render(scene["volume"], scene["camera"], options,
-                                         os.path.join(work, "scratch.png"), stats=True))
+            # The fetches per ray from a counting render (a pipeline of its own), the time from
+            # warm renders, as in the sweep.
+            counted = cvc.render(scene["volume"], scene["camera"], options, os.path.join(work, "scratch.png"),
+                                 stats=True)
+            timed = cvc.view(scene["volume"], scene["camera"], options)
+            rays = float(np.prod([int(n) for n in scene["camera"]["size"].split("x")]))
+            rows[name].append({"fetches_per_ray": counted["fetches_per_ray"], "device_ms": timed["median_ms"],
+                               "fetches_per_s": counted["fetches_per_ray"] * rays / (1e-3 * timed["median_ms"])})
     ceiling = statistics.median(c["samples_per_second"] for c in ceilings)
     out = {"ceiling_samples_per_s": ceiling, "ceiling_runs": ceilings, "rows": []}
     for name, _ in configs:
@@ -597,11 +616,13 @@ def write_report(path, meta, scenes, results, warp, eff, vtk, args):
         "`--report-only --work DIR` to rewrite this file and the plots from a kept run). It needs the `cvc` and "
         "`cvc_bench` targets built in `build/`, Debian's python3-numpy, -scipy, -matplotlib, -pil, and for VTK "
         "python3-vtk9 and xvfb.")
-    add("- Times are the **device time of the ray-casting dispatch** (Vulkan timestamps), as `cvc render` prints "
-        "it (`ray casting X ms`); they leave out loading, upload, pipeline creation and the PNG. Each is the "
-        "**first frame of its process**: its caches cold, the volume's pages touched for the first time. VTK's "
-        "times are the median of warm renders after a first one. Like-for-like (warm) comparisons on VTK's "
-        "yardstick are in the hand-written sections below (`scripts/bench_yardstick.py`, `cvc_bench view`).")
+    add("- Times are the **device time of the ray-casting dispatch** (Vulkan timestamps); they leave out "
+        "loading, upload, pipeline creation and the PNG. Each point's time is `cvc_bench view`'s: the median of "
+        "5 renders after a first one, the eye turned 0.3 degrees about the focal point before each, as VTK's "
+        "renders are timed (`results.json` keeps the first renders' times too). The images and hits come from "
+        "`cvc render` with the same options. Shading normals (a still's default, B-spline) are read from the "
+        "gradient volume (`--gradient-volume on`), computed once per volume as VTK computes its gradients "
+        "before its first render.")
     add(f"- Images are {args.size}x{args.size}, vertical field of view 90 degrees. The reference image of each "
         "scene and mode: step 0.1 voxel, tricubic B-spline filter, 12 bisection steps (iso mode), skipping on "
         "(skipping does not change the image: see the table).")
@@ -613,9 +634,11 @@ def write_report(path, meta, scenes, results, warp, eff, vtk, args):
         "(`noskip` = off), adaptive step (`adapt`), and in iso mode the bisection steps (`rN`; rows without it use 6). "
         "The composite mode's early-termination threshold is not a `cvc render` option (fixed at 0.98), so it "
         "is **not swept**.")
-    add("- Commands (per point): `build/app/cvc render VOLUME --position P --look-at A --up U --fov 90 --size "
-        f"{args.size}x{args.size} --mode iso|composite [--iso -500 --refine N | --tf colon-wall] --step S "
-        "--filter F [--no-skip] [--adaptive] [--hits H.nrrd] --force -o OUT.png`.\n")
+    add("- Commands (per point): the image, `build/app/cvc render VOLUME --position P --look-at A --up U --fov 90 "
+        f"--size {args.size}x{args.size} --mode iso|composite [--iso -500 --refine N | --tf colon-wall] --step S "
+        "--filter F --gradient-volume on [--no-skip] [--adaptive] [--hits H.nrrd] --force -o OUT.png`; the time, "
+        f"`build/bench/cvc_bench view VOLUME` with the same camera, `--size {args.size}` and the same options "
+        "but for the output.\n")
     add("## Scenes\n")
     for s in scenes:
         c = s["camera"]
@@ -800,8 +823,7 @@ def conclusions(results, warp, eff, vtk, ratios):
         if eq:
             wins = sum(1 for r in eq if r[3]["ms"] < r[2]["ms"])
             spread = [r[3]["ms"] / r[2]["ms"] for r in eq]
-            out.append(f"- **Faster than VTK's CPU ray caster at equal error (our first frames against VTK's warm "
-                       f"ones): "
+            out.append(f"- **Faster than VTK's CPU ray caster at equal error: "
                        f"{'met' if wins == len(eq) else 'not met'}**. Matching each VTK point with our fastest "
                        f"setting of no larger error (each renderer against its own converged image), ours was "
                        f"faster in {wins} of {len(eq)} cases; our time / VTK's time ranged "
