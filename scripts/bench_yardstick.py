@@ -16,8 +16,8 @@ Usage (from the repository root, after building cvc and cvc_bench):
    image at a 0.1-voxel step (VTK: sample distance 0.1 voxel; cvc: step 0.1 voxel, 12 bisection
    steps, the variant's own normals). Each 0.5-voxel image is compared with its own renderer's
    converged image (RMSE, PSNR, SSIM). (The two renderers' images are not compared with each
-   other: VTK shades its iso-like ramp grey with its own lights, cvc with a headlight and a
-   mucosa tone.)
+   other: they shade differently, VTK its iso-like opacity ramp with its own light and colours,
+   cvc the iso surface with a headlight, Cook-Torrance and a mucosa tone.)
 
 cvc variants: central-difference normals (6 fetches per shaded sample), the same read from the
 gradient volume (a display frame's default), B-spline normals (a still's default: 48 fetches)
