@@ -23,6 +23,8 @@ import numpy as np
 from matplotlib.image import imread, imsave
 from scipy import ndimage
 
+from bench_scenes import camera_options
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 CVC = os.path.join(ROOT, "build", "app", "cvc")
 CT = os.path.join(ROOT, "..", "shared", "data", "ct", "ts_example_abdomen_3mm.nrrd")
@@ -66,11 +68,9 @@ def main():
         {"name": "ct_outside", "title": "abdominal CT (3 mm), default outside view, 512^2", "volume": CT,
          "size": "512x512"},
         {"name": "ct_inside", "title": "abdominal CT (3 mm), inside the air-filled colon, 512^2", "volume": CT,
-         "size": "512x512", "camera": ["--position", "150,240,231", "--look-at", "124.414,235.488,246",
-                                       "--up", "0,0,1", "--fov", "90"]},
+         "size": "512x512", "camera": camera_options("ct_camera")},
         {"name": "phantom_inside", "title": "colon phantom (0.6 mm), inside view, 512^2", "volume": phantom,
-         "size": "512x512", "camera": ["--position", "49.182,83.585,107.125", "--look-at", "51.184,78.381,115.415",
-                                       "--up", "0,0,1", "--fov", "90"]},
+         "size": "512x512", "camera": camera_options("phantom_camera")},
     ]
     configs = [{"name": f"trilinear_{g}", "filter": "trilinear", "gradient": g} for g in args.gradients.split(",")]
     reference = {"name": "tricubic", "filter": "tricubic", "gradient": "bspline"}  # its normals are always the B-spline's

@@ -13,9 +13,11 @@
 #   colon_phantom DIR CVC   makes DIR/colon.nrrd with `CVC phantom` once (its centreline and
 #                           polyps in DIR/colon.json)
 #   phantom_inside          array: the colon phantom's inside camera at 1024^2
+#   phantom_camera          that camera without the image size
 #   ct_volume, ct_inside    the 3 mm CT and its camera inside the air-filled colon at 1024^2
 #   ct_camera               that camera without the image size
 #   make_scenes DIR CVC     makes DIR and both phantoms in it (yardstick_phantom, colon_phantom)
+# scripts/bench_scenes.py reads these arrays for the Python benchmark scripts.
 # Needs Debian's /usr/bin/python3 with python3-numpy, and for VTK python3-vtk9, python3-pil, xvfb.
 
 yardstick_camera=(--position 218.1386,207.6363,108.24 --look-at 216.0219,207.1811,148.24 --up 0,1,0 --fov 60)
@@ -41,8 +43,8 @@ colon_phantom() {
   [ -f "$1/colon.nrrd" ] || "$2" phantom -o "$1/colon.nrrd" > /dev/null
 }
 
-phantom_inside=(--position 49.182,83.585,107.125 --look-at 51.184,78.381,115.415 --up 0,0,1 --fov 90
-                --size 1024x1024)
+phantom_camera=(--position 49.182,83.585,107.125 --look-at 51.184,78.381,115.415 --up 0,0,1 --fov 90)
+phantom_inside=("${phantom_camera[@]}" --size 1024x1024)
 
 ct_volume=../shared/data/ct/ts_example_abdomen_3mm.nrrd
 ct_camera=(--position 150,240,231 --look-at 124.414,235.488,246 --up 0,0,1 --fov 90)

@@ -32,6 +32,7 @@ import subprocess
 import sys
 
 from bench_images import image_errors, read_png
+from bench_scenes import camera_options
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 VTK_DIR = os.path.join(ROOT, "..", "shared", "bench", "vtk")
@@ -49,12 +50,6 @@ def run(command):
     if result.returncode != 0:
         sys.exit(f"{' '.join(map(str, command))} failed ({result.returncode}):\n{result.stderr[-2000:]}")
     return result.stdout
-
-
-def yardstick_camera():
-    """cvc's options for the yardstick's inside camera, from scripts/bench_scenes.sh."""
-    out = run(["bash", "-c", f'source "{ROOT}/scripts/bench_scenes.sh" && printf "%s\\n" "${{yardstick_camera[@]}}"'])
-    return out.split()
 
 
 def vtk_view(out, sample_distance, png, repeats):
@@ -94,7 +89,7 @@ def main():
     os.makedirs(out, exist_ok=True)
     if not os.path.exists(os.path.join(out, "phantom512.mhd")):
         run(["/usr/bin/python3", os.path.join(VTK_DIR, "make_phantom.py"), "--out", os.path.join(out, "phantom512")])
-    camera = yardstick_camera()
+    camera = camera_options("yardstick_camera")
     print(f"machine: {os.cpu_count()} cores, load average at the start {os.getloadavg()[0]:.2f}")
 
     vtk_s, vtk_first_s = [], []
