@@ -80,14 +80,9 @@ void runPinholeRender(const RenderOptions& options) {
         settings.isWritingHits = true;
         settings.isCountingFetches = true;
         const engine::RenderedImage counted = raycaster.render(engine::viewRaysFrom(camera), settings);
-        double sum = 0.0, most = 0.0;
-        for (std::size_t i = 3; i < counted.hitMm.size(); i += 4) {
-            sum += counted.hitMm[i];
-            most = std::max(most, static_cast<double>(counted.hitMm[i]));
-        }
-        const double rays = static_cast<double>(counted.hitMm.size() / 4);
-        std::cout << "fetches per ray: mean " << sum / rays << ", max " << most << "; " << sum / (image.deviceMs * 1e-3)
-                  << " fetches per second\n";
+        const engine::FetchCounts fetches = engine::fetchCountsOf(counted);
+        std::cout << "fetches per ray: mean " << fetches.total / fetches.rays << ", max " << fetches.most << "; "
+                  << fetches.total / (image.deviceMs * 1e-3) << " fetches per second\n";
     }
 }
 

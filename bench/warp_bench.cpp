@@ -91,8 +91,9 @@ void runWarpBench(const WarpBenchRequest& request) {
     for (const auto& mode : modes) {
         double fetches = 0.0, rays = 0.0;
         for (const auto& wall : renderMode(mode, true)) {
-            for (std::size_t p = 3; p < wall.image.hitMm.size(); p += 4) fetches += wall.image.hitMm[p];
-            rays += static_cast<double>(wall.image.hitMm.size() / 4);
+            const engine::FetchCounts counts = engine::fetchCountsOf(wall.image);
+            fetches += counts.total;
+            rays += counts.rays;
         }
         fetchesPerRay[mode] = rays > 0.0 ? fetches / rays : 0.0;
     }

@@ -1,6 +1,7 @@
-/// @brief The render settings' ranges.
+/// @brief The render settings' ranges, and the fetch counts of a counting render.
 #include "engine/render/render_settings.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -21,6 +22,16 @@ void validateRenderSettings(const RenderSettings& s) {
     require(s.roughness > 0.0 && s.roughness <= 1.0 && s.fresnel >= 0.0 && s.fresnel <= 1.0 && s.ambient >= 0.0 &&
                 s.ambient <= 1.0,
             "roughness in (0, 1], Fresnel and ambient in [0, 1]");
+}
+
+FetchCounts fetchCountsOf(const RenderedImage& counted) {
+    FetchCounts counts;
+    for (std::size_t i = 3; i < counted.hitMm.size(); i += 4) {
+        counts.total += counted.hitMm[i];
+        counts.most = std::max(counts.most, static_cast<double>(counted.hitMm[i]));
+    }
+    counts.rays = static_cast<double>(counted.hitMm.size() / 4);
+    return counts;
 }
 
 }  // namespace engine

@@ -100,6 +100,16 @@ struct RenderedImage {
     double deviceMs = -1.0;    // time of the ray-casting dispatch on the device; < 0: unknown
 };
 
+/// The volume fetches of a render with RenderSettings::isCountingFetches (each ray's count in
+/// hitMm's w): their sum over the rays, the most one ray made, and the rays counted.
+struct FetchCounts {
+    double total = 0.0;
+    double most = 0.0;
+    double rays = 0.0;
+};
+
+FetchCounts fetchCountsOf(const RenderedImage& counted);
+
 /// One image to render: its rays, the features, and how the rays are bent.
 struct RenderRequest {
     ViewRays rays;
