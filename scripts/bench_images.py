@@ -1,7 +1,8 @@
 """Images and volumes as the benchmark scripts read and compare them: uncompressed NRRD (volumes,
 hit images), PNG, and the error measures of an image against a reference (RMSE, PSNR, SSIM;
-first-hit distances). Imported by scripts/bench_raycaster.py, bench_yardstick.py and
-bench_colon.py; needs Debian's /usr/bin/python3 with python3-numpy and python3-pil.
+first-hit distances). Imported by scripts/bench_raycaster.py (and its plots and VTK worker),
+bench_yardstick.py and bench_colon.py; needs Debian's /usr/bin/python3 with python3-numpy and
+python3-pil.
 """
 import re
 

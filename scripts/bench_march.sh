@@ -16,8 +16,8 @@
 #      at 50 degrees, scale 4) with the exact warp, with and without skipping along bent rays,
 #      and with the chord warp;
 #   4. the yardstick's view in composite mode with our colon-wall transfer function, given to
-#      VTK too (scripts/bench_raycaster.py's VTK worker: the same preset, opacity per mm), and
-#      to cvc with and without skipping, and with the gradient volume;
+#      VTK too (scripts/bench_vtk_worker.py, as bench_raycaster.py runs it: the same preset,
+#      opacity per mm), and to cvc with and without skipping, and with the gradient volume;
 #   5. the yardstick's view timed as VTK's is (`cvc_bench view`: the median of 5 renders after
 #      the first, the eye turned 0.3 degrees about the focal point each time; `cvc render` times
 #      its one, first, frame), iso and composite, with the ratio to VTK paired within each round;
@@ -59,7 +59,7 @@ vtk_composite_ms() {
             "png": "$out/vtk_composite.png"}],
  "result": "$out/vtk_composite.json"}
 JOB
-  xvfb-run -a -s "-screen 0 1280x1024x24" /usr/bin/python3 scripts/bench_raycaster.py --vtk-worker \
+  xvfb-run -a -s "-screen 0 1280x1024x24" /usr/bin/python3 scripts/bench_vtk_worker.py \
     "$out/vtk_composite_job.json" > /dev/null 2>&1
   /usr/bin/python3 -c 'import json, statistics, sys
 print(statistics.median(json.load(open(sys.argv[1]))["results"][0]["times_ms"]))' "$out/vtk_composite.json"

@@ -25,7 +25,8 @@ import time
 
 import numpy as np
 
-from bench_images import hit_errors, image_errors, read_nrrd, read_png, spacing_of, write_png
+from bench_images import hit_errors, image_errors, read_nrrd, read_png, spacing_of
+from bench_raycaster_plots import pareto, plot_pareto, side_by_side
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CT_PATH = os.path.join(ROOT, "..", "shared", "data", "ct", "ts_example_abdomen_3mm.nrrd")
@@ -256,155 +257,9 @@ def run_sweep(cvc, scene, mode, configs, runs, work, log):
             "lin_vs_cubic": between, "points": points}
 
 
-def pareto(points, key="rmse"):
-    front, best = [], float("inf")
-    for p in sorted(points, key=lambda p: (p["ms"], p[key])):
-        if p[key] < best:
-            front.append(p)
-            best = p[key]
-    return front
-
-
-def plot_pareto(scene, sweeps, vtk, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.2))
-    for ax, mode in zip(axes, ("iso", "composite")):
-        points = sweeps[mode]["points"]
-        front = pareto(points)
-        on_front = {id(p) for p in front}
-        for p in points:
-            colour = "tab:red" if not p["skip"] else ("tab:green" if p["adaptive"] else "tab:blue")
-            marker = "s" if p["filter"] == "tricubic" else "o"
-            ax.scatter(p["ms"], p["rmse"], c=colour, marker=marker, s=36, zorder=3)
-            # Label the front in full; the points behind it are many and close, so label them faintly.
-            if id(p) in on_front:
-                ax.annotate(p["label"], (p["ms"], p["rmse"]), fontsize=7, xytext=(4, 4), textcoords="offset points")
-            else:
-                ax.annotate(p["label"], (p["ms"], p["rmse"]), fontsize=5, xytext=(3, -8), textcoords="offset points",
-                            color="0.45")
-        ax.plot([p["ms"] for p in front], [p["rmse"] for p in front], "k--", lw=1, zorder=2, label="Pareto front")
-        if vtk and mode in vtk:
-            v = vtk[mode]["points"]
-            ax.scatter([p["ms"] for p in v], [p["rmse_vs_vtk"] for p in v], c="tab:purple", marker="^", s=40,
-                       zorder=3, label="VTK fixed-point (CPU), error vs VTK's 0.1 vx image")
-            for p in v:
-                ax.annotate(f"VTK {p['step']:g} vx", (p["ms"], p["rmse_vs_vtk"]), fontsize=6.5, xytext=(3, -9),
-                            textcoords="offset points", color="tab:purple")
-        ax.scatter([], [], c="tab:blue", marker="o", label="skipping, trilinear")
-        ax.scatter([], [], c="tab:blue", marker="s", label="skipping, tricubic")
-        ax.scatter([], [], c="tab:red", marker="o", label="no skipping")
-        ax.scatter([], [], c="tab:green", marker="o", label="adaptive step")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("ray casting, device time (ms, median)")
-        ax.set_ylabel("RMSE, RGB in [0, 1] (ours: against the tricubic 0.1 vx reference)")
-        ax.set_title(f"{scene['name']}: {mode} mode")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="best", framealpha=0.6)
-    fig.suptitle(f"Time against error: {scene['title']}, {scene['camera']['size']}", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
 # ---------------------------------------------------------------------------------------------
-# VTK (run in its own process under xvfb-run)
+# VTK (scripts/bench_vtk_worker.py, in its own process under xvfb-run)
 # ---------------------------------------------------------------------------------------------
-
-def vtk_worker(job_path):
-    """Renders each job with vtkFixedPointVolumeRayCastMapper: first render (untimed: it builds
-    the gradient normals and space-leaping tables), then `runs` timed renders."""
-    import vtk
-    from vtk.util import numpy_support
-    job = json.load(open(job_path))
-    fields, hu = read_nrrd(job["volume"])
-    spacing = spacing_of(fields)
-    image = vtk.vtkImageData()
-    image.SetDimensions(hu.shape[2], hu.shape[1], hu.shape[0])
-    image.SetSpacing(*spacing)
-    image.SetOrigin(0.0, 0.0, 0.0)  # so that VTK's world coordinates are our volume millimetres
-    scalars = numpy_support.numpy_to_vtk(np.ascontiguousarray(hu).ravel(), deep=True, array_type=vtk.VTK_SHORT)
-    image.GetPointData().SetScalars(scalars)
-
-    cam = job["camera"]
-    width, height = (int(s) for s in cam["size"].split("x"))
-    window = vtk.vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(width, height)
-    renderer = vtk.vtkRenderer()
-    renderer.SetBackground(0.015, 0.017, 0.022)
-    window.AddRenderer(renderer)
-    camera = renderer.GetActiveCamera()
-    camera.SetPosition(*[float(x) for x in cam["position"].split(",")])
-    camera.SetFocalPoint(*[float(x) for x in cam["look_at"].split(",")])
-    camera.SetViewUp(*[float(x) for x in cam["up"].split(",")])
-    camera.SetViewAngle(float(cam["fov"]))
-    extent = np.array(hu.shape[::-1]) * np.array(spacing)
-    camera.SetClippingRange(0.05 * min(spacing), 4.0 * float(np.linalg.norm(extent)))
-    renderer.LightFollowCameraOn()  # the default light is a headlight at the camera
-
-    mucosa, tissue = (0.93, 0.60, 0.50), (0.80, 0.45, 0.38)
-    results = []
-    for task in job["tasks"]:
-        mapper = vtk.vtkFixedPointVolumeRayCastMapper()
-        mapper.SetInputData(image)
-        mapper.SetBlendModeToComposite()
-        mapper.SetAutoAdjustSampleDistances(0)
-        mapper.SetLockSampleDistanceToInputSpacing(0)
-        mapper.SetImageSampleDistance(1.0)
-        mapper.SetSampleDistance(task["step_mm"])
-        mapper.SetNumberOfThreads(job["threads"])
-        colour = vtk.vtkColorTransferFunction()
-        opacity = vtk.vtkPiecewiseFunction()
-        if task["mode"] == "composite":  # our colon-wall preset
-            for h, c, a in ((-1024, mucosa, 0.0), (-650, mucosa, 0.0), (-500, mucosa, 0.6), (-350, tissue, 1.0),
-                            (3071, tissue, 1.0)):
-                colour.AddRGBPoint(h, *c)
-                opacity.AddPoint(h, a)
-        else:  # iso-surface-like: a surface that turns opaque within 30 HU of the iso value
-            iso = task["iso"]
-            for h, a in ((-1024, 0.0), (iso - 30, 0.0), (iso + 30, 1.0), (3071, 1.0)):
-                colour.AddRGBPoint(h, *mucosa)
-                opacity.AddPoint(h, a)
-        prop = vtk.vtkVolumeProperty()
-        prop.SetColor(colour)
-        prop.SetScalarOpacity(opacity)
-        prop.SetScalarOpacityUnitDistance(1.0)  # opacity per mm, as our transfer functions
-        prop.SetInterpolationTypeToLinear()
-        prop.ShadeOn()
-        prop.SetAmbient(0.10)
-        prop.SetDiffuse(0.90)
-        prop.SetSpecular(0.20)
-        prop.SetSpecularPower(20.0)
-        volume = vtk.vtkVolume()
-        volume.SetMapper(mapper)
-        volume.SetProperty(prop)
-        renderer.AddVolume(volume)
-        start = time.perf_counter()
-        window.Render()
-        first = time.perf_counter() - start
-        times = []
-        for _ in range(task["runs"]):
-            volume.Modified()
-            start = time.perf_counter()
-            window.Render()
-            times.append(time.perf_counter() - start)
-        grab = vtk.vtkWindowToImageFilter()
-        grab.SetInput(window)
-        grab.ReadFrontBufferOff()
-        grab.Update()
-        out = grab.GetOutput()
-        rgb = numpy_support.vtk_to_numpy(out.GetPointData().GetScalars()).reshape(height, width, -1)[::-1, :, :3]
-        # VTK blends in linear values and writes them as they are; ours ends with a 2.2 gamma.
-        # The same gamma is applied here, outside the timed renders, so the images compare.
-        linear = rgb.astype(np.float64) / 255.0
-        write_png(task["png"], linear ** (1.0 / 2.2))
-        renderer.RemoveVolume(volume)
-        results.append({"first_s": first, "times_ms": [1000.0 * t for t in times]})
-    json.dump({"vtk_version": vtk.vtkVersion.GetVTKVersion(), "results": results}, open(job["result"], "w"))
-
 
 def run_vtk(scene, modes, steps, runs, work, log, ours):
     if shutil.which("xvfb-run") is None:
@@ -421,8 +276,9 @@ def run_vtk(scene, modes, steps, runs, work, log, ours):
     job_path = os.path.join(work, f"vtk_{scene['name']}_job.json")
     json.dump(job, open(job_path, "w"))
     log(f"[vtk {scene['name']}] {len(tasks)} views")
-    result = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "/usr/bin/python3",
-                             os.path.abspath(__file__), "--vtk-worker", job_path], capture_output=True, text=True)
+    worker = os.path.join(os.path.dirname(os.path.abspath(__file__)), "bench_vtk_worker.py")
+    result = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "/usr/bin/python3", worker, job_path],
+                            capture_output=True, text=True)
     if result.returncode != 0:
         log(f"VTK failed ({result.returncode}): {result.stderr[-2000:]}")
         return None
@@ -443,33 +299,6 @@ def run_vtk(scene, modes, steps, runs, work, log, ours):
         out[mode] = {"points": points, "reference_png": ref_task["png"],
                      "reference_ms": statistics.median(ref_result["times_ms"]), "reference_vs_ours": ref_vs_ours}
     return out
-
-
-def side_by_side(scene, sweeps, vtk, work, path):
-    """Our reference, our default setting, VTK at the same step, VTK's reference; per mode."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    modes = [m for m in ("iso", "composite") if m in vtk]
-    fig, axes = plt.subplots(len(modes), 4, figsize=(13, 3.4 * len(modes)), squeeze=False)
-    for row, mode in zip(axes, modes):
-        ours = next(p for p in sweeps[mode]["points"]
-                    if p["step"] == 0.5 and p["filter"] == "trilinear" and p["skip"] and not p["adaptive"]
-                    and p.get("refine", 6) == 6)
-        n = sweeps[mode]["points"].index(ours)
-        v = next(p for p in vtk[mode]["points"] if p["step"] == 0.5)
-        panels = [(sweeps[mode]["reference_png"], f"ours, reference ({sweeps[mode]['reference_ms']:.0f} ms)"),
-                  (os.path.join(work, f"{scene['name']}_{mode}_{n}.png"),
-                   f"ours, 0.5 vx trilinear ({ours['ms']:.0f} ms, RMSE {ours['rmse']:.3f})"),
-                  (v["png"], f"VTK, 0.5 vx ({v['ms']:.0f} ms, RMSE {v['rmse_vs_ours']:.3f})"),
-                  (vtk[mode]["reference_png"], f"VTK, 0.1 vx ({vtk[mode]['reference_ms']:.0f} ms)")]
-        for ax, (png, title) in zip(row, panels):
-            ax.imshow(read_png(png))
-            ax.set_title(f"{mode}: {title}", fontsize=7.5)
-            ax.axis("off")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -853,11 +682,7 @@ def main():
     parser.add_argument("--only", default=None, help="comma list of parts: sweep,warp,efficiency,vtk")
     parser.add_argument("--report-only", action="store_true",
                         help="rewrite the report and plots from --work's results.json without rendering")
-    parser.add_argument("--vtk-worker", default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
-    if args.vtk_worker:
-        vtk_worker(args.vtk_worker)
-        return
     args.size = args.size or (256 if args.quick else 512)
     args.runs = args.runs or (2 if args.quick else 3)
     parts = set((args.only or "sweep,warp,efficiency,vtk").split(","))
