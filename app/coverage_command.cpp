@@ -61,7 +61,7 @@ struct CoverageOptions {
     std::string wallSize;  // empty: the display's own (with --compare: kCompareWallSize)
     double mmPerMetre = 10.0;
     int mapSize = 1024;
-    std::string warp = "chord";
+    std::string warp = "eye-centred";
     double isoHu = -500.0;
     colon::CoverageSettings coverage;
     double minPatchMm2 = 10.0;
@@ -177,7 +177,7 @@ engine::CoverageJob coverageJobOf(const CoverageOptions& options, const Row& row
     job.settings.stepVoxels = 1.0;  // as display renders: hits refined by bisection
     job.settings.gradient = engine::GradientFilter::Central;
     job.settings.lightHalfDistanceMm = 25.0;
-    job.warpMode = options.warp == "exact" ? engine::WarpMode::Exact : engine::WarpMode::Chord;
+    job.warpMode = engine::warpModeFromName(options.warp);
     return job;
 }
 
@@ -545,7 +545,8 @@ void addCoverageCommand(CLI::App& program) {
                                     "display's own; with --compare ") + kCompareWallSize + ")");
     command->add_option("--scale", options->mmPerMetre, "Volume millimetres per CAVE metre")->capture_default_str();
     command->add_option("--map-size", options->mapSize, "Cube-map texels per face edge")->capture_default_str();
-    command->add_option("--warp", options->warp, "chord or exact")->check(CLI::IsMember({"chord", "exact"}))
+    command->add_option("--warp", options->warp, "eye-centred, polyline, chord or exact (the centre eye's rays: all but exact are one chord)")
+        ->check(CLI::IsMember(engine::bendingWarpModeNames()))
         ->capture_default_str();
     command->add_option("--iso", options->isoHu, "Iso value in HU of the wall (rendered and meshed)")->capture_default_str();
     command->add_option("--max-footprint", options->coverage.maxFootprintMm2,

@@ -165,7 +165,7 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     job.poses = request.poses;
     job.mmPerMetre = options.mmPerMetre;
     job.settings = renderSettingsFrom(options, true);
-    job.warpMode = options.warp == "exact" ? engine::WarpMode::Exact : engine::WarpMode::Chord;
+    job.warpMode = engine::warpModeFromName(options.warp);
     job.isWritingBeforeAfter = options.isWritingBeforeAfter;
     job.isWritingHits = options.isWritingDisplayHits;
     job.mapSource = display.map == conformal::MapKind::None ? "none"

@@ -1,10 +1,13 @@
 /// @brief `cvc phantom`: write a synthetic volume whose geometry is known: a colon with folds
 /// and polyps (plus its ground-truth JSON), or the analytic ball and tube of the renderer tests.
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -25,6 +28,7 @@ struct PhantomOptions {
     int size = 0;            // 0: the kind's default (colon 256, ball and tube 128)
     double spacingMm = 0.0;  // 0: the kind's default (colon 0.6 mm, ball and tube 1 mm)
     std::vector<std::string> polyps;
+    int randomPolyps = 0;  // > 0: that many random polyps instead of the listed or default ones
     double noiseSigmaHu = 15.0;
     std::uint64_t seed = 1;
     // Anatomy around the colon (colon only), for segmentation and centreline tests.
@@ -81,6 +85,10 @@ void runColon(const PhantomOptions& options) {
         spec.polyps.clear();
         for (const std::string& text : options.polyps) spec.polyps.push_back(volumes::parsePolypSpec(text));
     }
+    if (options.randomPolyps != 0) {
+        spec.polyps.clear();
+        spec.randomPolypCount = options.randomPolyps;
+    }
     applyAnatomyOptions(options, spec);
     const auto start = std::chrono::steady_clock::now();
     const volumes::ColonPhantom phantom = volumes::makeColonPhantom(spec);
@@ -89,8 +97,12 @@ void runColon(const PhantomOptions& options) {
     std::ofstream truth(truthPath, std::ios::trunc);
     truth << volumes::colonTruthJson(spec, phantom);
     if (!truth) throw volumes::VolumeError(truthPath + ": write failed");
+    const auto onFolds = std::count_if(phantom.polyps.begin(), phantom.polyps.end(),
+                                       [](const volumes::PolypTruth& p) { return p.isOnFold; });
     std::cout << "wrote colon phantom " << size << "^3 at " << spec.grid.spacingMm.x << " mm with "
-              << phantom.polyps.size() << " polyps and " << phantom.foldArcLengthsMm.size() << " folds to "
+              << phantom.polyps.size() << " polyps"
+              << (onFolds > 0 ? " (" + std::to_string(onFolds) + " on folds)" : "")
+              << " and " << phantom.foldArcLengthsMm.size() << " folds to "
               << options.outPath << " (ground truth " << truthPath << "; built in " << seconds << " s)\n";
 }
 
@@ -144,12 +156,17 @@ void addPhantomCommand(CLI::App& program) {
     command->add_option("--spacing", options->spacingMm, "Voxel spacing in mm (default: colon 0.6, ball and tube 1)")
         ->check(CLI::Range(0.01, 10.0));
     command->add_option("--polyp", options->polyps,
-                        "Colon polyp KIND:DIAMETER_MM:POSITION:ANGLE_DEG[:STALK_MM], KIND sessile or pedunculated, "
-                        "POSITION 0..1 along the colon; repeat for several (default: five polyps of 3 to 12 mm)");
+                        "Colon polyp KIND:DIAMETER_MM:POSITION:ANGLE_DEG[:STALK_MM], KIND sessile, pedunculated or "
+                        "flat, POSITION 0..1 along the colon; repeat for several (default: five polyps of 3 to 12 mm)");
+    command->add_option("--random-polyps", options->randomPolyps,
+                        "Colon: N (1.." + std::to_string(volumes::kMaxRandomPolyps) +
+                            ") polyps of 5 to 15 mm laid out at random from --seed instead of the default ones: "
+                            "sessile, pedunculated and flat, about a quarter on a fold's ridge");
     command->add_option("--noise", options->noiseSigmaHu, "Colon CT noise, standard deviation in HU")
         ->check(CLI::Range(0.0, 200.0))
         ->capture_default_str();
-    command->add_option("--seed", options->seed, "Colon noise seed")->capture_default_str();
+    command->add_option("--seed", options->seed, "Colon noise seed (and the layout of --random-polyps)")
+        ->capture_default_str();
     command->add_option("--shape-seed", options->shapeSeed,
                         "Colon shape: 0 the standard curve, N > 0 its control points moved by up to 5% of the grid")
         ->capture_default_str();
@@ -168,9 +185,18 @@ void addPhantomCommand(CLI::App& program) {
     command->callback([options, command] {
         if (options->kind != "colon") {
             refuseGivenOptions(*command,
-                               {"--truth", "--polyp", "--noise", "--seed", "--shape-seed", "--body", "--lung",
-                                "--collapse", "--fluid", "--anatomy"},
+                               {"--truth", "--polyp", "--random-polyps", "--noise", "--seed", "--shape-seed", "--body",
+                                "--lung", "--collapse", "--fluid", "--anatomy"},
                                "describes the colon phantom; a " + options->kind + " phantom has no such part");
+        }
+        if (command->count("--random-polyps") > 0) {
+            if (options->randomPolyps < 1 || options->randomPolyps > volumes::kMaxRandomPolyps) {
+                throw std::invalid_argument("--random-polyps " + std::to_string(options->randomPolyps) +
+                                            ": 1.." + std::to_string(volumes::kMaxRandomPolyps) +
+                                            " polyps fit in the colon phantom");
+            }
+            refuseGivenOptions(*command, {"--polyp"},
+                               "cannot go with --random-polyps, which lays out the polyps itself");
         }
         runPhantom(*options);
     });

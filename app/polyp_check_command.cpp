@@ -1,8 +1,9 @@
 /// @brief `cvc polyp-check`: the polyp-shape regression suite. Every polyp of a ground truth is
-/// seen from poses along its path that put it on a wall, near the missing ceiling's edge, on the
-/// ceiling's directions and toward a corner, for both eyes, through the conformal map, the
-/// linear baseline and no map, and measured as the viewer sees it against a pinhole reference
-/// (engine/display/polyp_check.h). Writes a Markdown table, JSON and side-by-side crops.
+/// seen from poses along its path that put it on a wall, near the missing walls' edge, on their
+/// directions and toward a slit tip, for the left, centre and right eyes, through the conformal
+/// map, the linear baseline and no map, and measured as the viewer sees it against a pinhole
+/// reference, beside what the map alone predicts (engine/display/polyp_check.h). Writes a
+/// Markdown table, JSON and side-by-side crops.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -45,12 +46,14 @@ struct PolypCheckOptions {
     std::string truthPath;
     std::string display = "ic5";
     std::vector<int> polyps;  // empty: every polyp of the truth
+    std::vector<std::string> poses;  // empty: every pose of the display
+    std::vector<std::string> maps{"conformal", "linear", "none"};
     std::string outFolder;
     std::string jsonPath;
     std::string wallSize;  // empty: the display's own
     int mapSize = 1024;
     double mmPerMetre = 10.0;
-    std::string warp = "chord";
+    std::string warp = "eye-centred";
     double angularRadiusDeg = 5.0;
     std::string device;
     bool force = false;
@@ -61,11 +64,11 @@ nlohmann::json numberOrNull(double value) { return std::isfinite(value) ? nlohma
 std::string mapName(conformal::MapKind kind) { return conformal::mapKindName(kind); }
 
 /// The worst error (`key` of the result entries) of each map over polyps of 6 mm and more seen
-/// on the ceiling's directions at the targeted poses (the acceptance figure).
+/// on the missing walls' directions at the targeted poses, every eye.
 nlohmann::json worstOf(const nlohmann::json& entries, const char* key) {
     std::map<std::string, double> worst;
     for (const auto& r : entries) {
-        if (r["diameter_mm"].get<double>() < 6.0 || !r["on_ceiling"].get<bool>() || !r["targeted"].get<bool>() ||
+        if (r["diameter_mm"].get<double>() < 6.0 || r["missing_wall"].is_null() || !r["targeted"].get<bool>() ||
             r["map"] == "none") {
             continue;
         }
@@ -78,29 +81,38 @@ nlohmann::json worstOf(const nlohmann::json& entries, const char* key) {
     return out;
 }
 
+nlohmann::json predictedJson(const engine::PredictedErrors& errors) {
+    return {{"found", errors.isFound},
+            {"aspect_error", numberOrNull(errors.aspectError)},
+            {"circularity_error", numberOrNull(errors.circularityError)},
+            {"grid_angle_error_deg", numberOrNull(errors.gridAngleErrorDeg)}};
+}
+
 /// One JSON entry per result, in the results' order.
-nlohmann::json resultEntries(const std::vector<engine::PolypViewResult>& results, const engine::PolypCheckJob& job) {
+nlohmann::json resultEntries(const std::vector<engine::PolypViewResult>& results, const engine::PolypCheckPlan& plan) {
     nlohmann::json list = nlohmann::json::array();
     std::map<std::string, const engine::PolypPose*> poseByName;
-    for (const auto& pose : job.poses) poseByName[pose.name] = &pose;
+    for (const auto& target : plan.poses) poseByName[target.pose.name] = &target.pose;
     for (const auto& r : results) {
-        const engine::PolypPose& pose = *poseByName.at(r.pose);
+        const glm::dvec2 elevationAzimuth = engine::elevationAzimuthDegOf(poseByName.at(r.pose)->directionCave);
         list.push_back({{"polyp", r.polyp},
                         {"diameter_mm", r.diameterMm},
                         {"pose", r.pose},
-                        {"elevation_deg", pose.elevationDeg},
-                        {"azimuth_deg", pose.azimuthDeg},
+                        {"elevation_deg", elevationAzimuth.x},
+                        {"azimuth_deg", elevationAzimuth.y},
                         {"targeted", r.isTargeted},
                         {"angular_radius_deg", r.angularRadiusDeg},
                         {"singular_distance_deg", r.singularDistanceDeg},
-                        {"on_ceiling", r.isOnCeiling},
+                        {"missing_wall", r.missingWall.empty() ? nlohmann::json() : nlohmann::json(r.missingWall)},
                         {"eye", engine::eyeText(r.eye)},
                         {"map", mapName(r.map)},
+                        {"warp", engine::warpModeName(r.warp)},
                         {"visible", r.isVisible},
                         {"visible_fraction", numberOrNull(r.visibleFraction)},
                         {"pixels", r.view.pixels},
                         {"pixels_across", r.view.pixelsAcross},
                         {"reference_pixels", r.reference.pixels},
+                        {"reference_unoccluded_share", r.referenceUnoccludedShare},
                         {"aspect", r.view.aspect},
                         {"reference_aspect", r.reference.aspect},
                         {"orientation_deg", r.view.orientationDeg},
@@ -111,6 +123,13 @@ nlohmann::json resultEntries(const std::vector<engine::PolypViewResult>& results
                         {"aspect_error", numberOrNull(r.aspectError)},
                         {"circularity_error", numberOrNull(r.circularityError)},
                         {"grid_angle_error_deg", numberOrNull(r.gridAngleErrorDeg)},
+                        {"predicted", predictedJson(r.predicted)},
+                        {"predicted_circle", predictedJson(r.predictedCircle)},
+                        {"predicted_floor", predictedJson(r.predictedFloor)},
+                        {"centre_aspect_error", numberOrNull(r.centreAspectError)},
+                        {"exact_warp_aspect_error", numberOrNull(r.exactWarpAspectError)},
+                        {"apart_from_prediction_because",
+                         r.apartBecause.empty() ? nlohmann::json() : nlohmann::json(r.apartBecause)},
                         {"position_mm", {r.cameraPose.positionMm.x, r.cameraPose.positionMm.y, r.cameraPose.positionMm.z}},
                         {"forward", {r.cameraPose.forward.x, r.cameraPose.forward.y, r.cameraPose.forward.z}},
                         {"up", {r.cameraPose.up.x, r.cameraPose.up.y, r.cameraPose.up.z}}});
@@ -118,9 +137,39 @@ nlohmann::json resultEntries(const std::vector<engine::PolypViewResult>& results
     return list;
 }
 
+/// The poses and the eye's distance rule as applied (PolypCheckPlan).
+nlohmann::json planJson(const engine::PolypCheckPlan& plan, const engine::PolypCheckJob& job) {
+    nlohmann::json poses = nlohmann::json::array();
+    for (const auto& target : plan.poses) {
+        const glm::dvec2 elevationAzimuth = engine::elevationAzimuthDegOf(target.pose.directionCave);
+        const glm::dvec3& d = target.pose.directionCave;
+        poses.push_back({{"name", target.pose.name},
+                         {"direction_cave", {d.x, d.y, d.z}},
+                         {"elevation_deg", elevationAzimuth.x},
+                         {"azimuth_deg", elevationAzimuth.y},
+                         {"missing_wall", engine::missingWallOf(job.display, d).empty()
+                                              ? nlohmann::json()
+                                              : nlohmann::json(engine::missingWallOf(job.display, d))},
+                         {"targeted", target.isTargeted},
+                         {"predicted_floor", predictedJson(target.floor)}});
+    }
+    return {{"poses", poses},
+            {"angular_radius_deg", plan.angularRadiusDeg},
+            {"widest_angular_radius_deg", plan.widestAngularRadiusDeg},
+            {"rule",
+             "a pose is targetable when the conformal map's predicted aspect and circularity errors for a circle at the "
+             "least angular radius (its floor) are within the predicted target; each polyp's eyes stand where it "
+             "subtends the largest angular radius up to the most, in quarter degrees down to the least, from which it is "
+             "in full view and the prediction for its own outline meets the target at every targetable pose; a result "
+             "is targeted where its pose is targetable and that prediction from the polyp's place meets the target"},
+            {"least_angular_radius_deg", job.minAngularRadiusDeg},
+            {"most_angular_radius_deg", job.angularRadiusDeg},
+            {"predicted_target", job.predictedTarget}};
+}
+
 /// The check's document (polyp_check.json) around the result entries.
 nlohmann::json resultsJson(const nlohmann::json& list, const PolypCheckOptions& options,
-                           const engine::PolypCheckJob& job) {
+                           const engine::PolypCheckJob& job, const engine::PolypCheckPlan& plan) {
     nlohmann::json doc;
     doc["volume"] = fs::absolute(options.volumePath).string();
     doc["truth"] = fs::absolute(options.truthPath).string();
@@ -130,6 +179,7 @@ nlohmann::json resultsJson(const nlohmann::json& list, const PolypCheckOptions& 
         doc["walls"].push_back({{"name", engine::wallNameText(wall.name)}, {"width", wall.width}, {"height", wall.height}});
     }
     doc["warp"] = options.warp;
+    doc["plan"] = planJson(plan, job);
     doc["mm_per_metre"] = job.mmPerMetre;
     doc["tolerance_mm"] = job.toleranceMm;
     doc["min_polyp_pixels"] = colon::kMinPolypPixels;
@@ -137,7 +187,7 @@ nlohmann::json resultsJson(const nlohmann::json& list, const PolypCheckOptions& 
     doc["worst_aspect_error"] = worstOf(list, "aspect_error");
     doc["worst_circularity_error"] = worstOf(list, "circularity_error");
     doc["worst_grid_angle_error_deg"] = worstOf(list, "grid_angle_error_deg");
-    doc["worst_over"] = "polyps of 6 mm and more whose direction falls on the missing ceiling, targeted poses";
+    doc["worst_over"] = "polyps of 6 mm and more whose direction falls on a missing wall, targeted poses, every eye";
     return doc;
 }
 
@@ -154,18 +204,20 @@ double numberOrNan(const nlohmann::json& value) {
 
 std::string markdownTable(const nlohmann::json& entries) {
     std::ostringstream md;
-    md << "| polyp | mm | pose | on ceiling | eye | map | visible | px across | aspect error | circularity error | "
-          "grid angle error |\n|---:|---:|---|---|---|---|---|---:|---:|---:|---:|\n";
+    md << "| polyp | mm | pose | missing wall | eye | map | visible | px across | aspect error | predicted | "
+          "circularity error | grid angle error |\n|---:|---:|---|---|---|---|---|---:|---:|---:|---:|---:|\n";
     for (const auto& r : entries) {
         const std::string map = r["map"].get<std::string>();
         md << "| " << r["polyp"].get<int>() << " | " << r["diameter_mm"].get<double>() << " | "
            << r["pose"].get<std::string>() << (r["targeted"].get<bool>() ? "" : " (no target)") << " | "
-           << (r["on_ceiling"].get<bool>() ? "yes" : "no") << " | " << r["eye"].get<std::string>() << " | " << map << " | "
+           << (r["missing_wall"].is_null() ? std::string("–") : r["missing_wall"].get<std::string>()) << " | "
+           << r["eye"].get<std::string>() << " | " << map << " | "
            << (r["visible"].get<bool>() ? "yes"
                : map == "none"           ? "cut off (" + percent(numberOrNan(r["visible_fraction"])) + ")"
                                          : "no")
            << " | " << std::fixed << std::setprecision(0) << r["pixels_across"].get<double>() << " | "
-           << percent(numberOrNan(r["aspect_error"])) << " | " << percent(numberOrNan(r["circularity_error"])) << " | ";
+           << percent(numberOrNan(r["aspect_error"])) << " | " << percent(numberOrNan(r["predicted"]["aspect_error"]))
+           << " | " << percent(numberOrNan(r["circularity_error"])) << " | ";
         const double gridError = numberOrNan(r["grid_angle_error_deg"]);
         if (std::isfinite(gridError)) {
             md << std::setprecision(2) << gridError << "°";
@@ -203,6 +255,26 @@ void writeCrops(const std::vector<engine::PolypViewResult>& results, const fs::p
     }
 }
 
+/// The display's poses named in `names` (all of them for none), in the display's order; throws
+/// std::invalid_argument naming an unknown pose and listing the display's.
+std::vector<engine::PolypPose> chosenPoses(const engine::Display& display, const std::vector<std::string>& names) {
+    const std::vector<engine::PolypPose> all = engine::polypPosesFor(display);
+    if (names.empty()) return all;
+    for (const std::string& name : names) {
+        if (std::none_of(all.begin(), all.end(), [&](const engine::PolypPose& pose) { return pose.name == name; })) {
+            std::string known;
+            for (const auto& pose : all) known += (known.empty() ? "" : ", ") + pose.name;
+            throw std::invalid_argument("--poses: display '" + display.name + "' has no pose '" + name + "' (it has " +
+                                        known + ")");
+        }
+    }
+    std::vector<engine::PolypPose> chosen;
+    for (const auto& pose : all) {
+        if (std::find(names.begin(), names.end(), pose.name) != names.end()) chosen.push_back(pose);
+    }
+    return chosen;
+}
+
 void runPolypCheck(const PolypCheckOptions& options) {
     engine::Display display = engine::loadDisplay(options.display);
     if (!options.wallSize.empty()) resizeWalls(display, options.wallSize);
@@ -238,8 +310,18 @@ void runPolypCheck(const PolypCheckOptions& options) {
         job.polypIndices = options.polyps;
     }
     job.mmPerMetre = options.mmPerMetre;
+    job.poses = chosenPoses(display, options.poses);
+    job.maps.clear();
+    for (const std::string& name : options.maps) {
+        const conformal::MapKind kind = conformal::mapKindFromName(name);
+        if (std::find(job.maps.begin(), job.maps.end(), kind) == job.maps.end()) job.maps.push_back(kind);
+    }
+    if (std::find(job.maps.begin(), job.maps.end(), conformal::MapKind::Conformal) == job.maps.end()) {
+        throw std::invalid_argument("--maps must include conformal: its prediction places the eyes and sets the targets");
+    }
     job.angularRadiusDeg = options.angularRadiusDeg;
-    job.warpMode = options.warp == "exact" ? engine::WarpMode::Exact : engine::WarpMode::Chord;
+    job.minAngularRadiusDeg = std::min(job.minAngularRadiusDeg, options.angularRadiusDeg);
+    job.warpMode = engine::warpModeFromName(options.warp);
     job.settings.gradient = engine::GradientFilter::Central;
     job.settings.lightHalfDistanceMm = 25.0;
 
@@ -276,9 +358,11 @@ void runPolypCheck(const PolypCheckOptions& options) {
         if (!progress) progress.emplace(std::cerr, total, 0, isatty(fileno(stderr)) != 0);
         progress->update(done);
     };
-    const auto results = engine::checkPolyps(
-        raycaster, mine, [&cubeMaps](conformal::MapKind kind) -> const conformal::CubeMap& { return cubeMaps.at(kind); },
-        onProgress);
+    const engine::CubeMapLookup lookup = [&cubeMaps](conformal::MapKind kind) -> const conformal::CubeMap& {
+        return cubeMaps.at(kind);
+    };
+    const engine::PolypCheckPlan plan = engine::planPolypCheck(job, lookup);
+    const auto results = engine::checkPolyps(raycaster, mine, plan, lookup, onProgress);
     if (progress) progress->finish();
     // One file per polyp, pose and eye: each rank its own, once the check succeeded.
     fs::create_directories(crops);
@@ -286,7 +370,7 @@ void runPolypCheck(const PolypCheckOptions& options) {
 
     // Rank 0 puts every rank's entries in the order one process gives them: map, polyp (as
     // asked for), pose, eye.
-    const std::vector<std::string> all = mpi.gather(resultEntries(results, mine).dump());
+    const std::vector<std::string> all = mpi.gather(resultEntries(results, plan).dump());
     mpi.barrier();
     if (mpi.rank() != 0) return;
     nlohmann::json list = nlohmann::json::array();
@@ -298,24 +382,27 @@ void runPolypCheck(const PolypCheckOptions& options) {
     };
     std::vector<std::string> mapOrder, poseOrder;
     for (conformal::MapKind kind : job.maps) mapOrder.push_back(mapName(kind));
-    for (const auto& pose : job.poses) poseOrder.push_back(pose.name);
+    for (const auto& target : plan.poses) poseOrder.push_back(target.pose.name);
+    const std::vector<std::string> eyeOrder{"left", "centre", "right"};
     const auto keyOf = [&](const nlohmann::json& r) {
         return std::make_tuple(positionOf(mapOrder, r["map"].get<std::string>()),
                                positionOf(job.polypIndices, r["polyp"].get<int>()),
-                               positionOf(poseOrder, r["pose"].get<std::string>()), r["eye"].get<std::string>() != "left");
+                               positionOf(poseOrder, r["pose"].get<std::string>()),
+                               positionOf(eyeOrder, r["eye"].get<std::string>()));
     };
     std::vector<nlohmann::json> ordered(list.begin(), list.end());
     std::stable_sort(ordered.begin(), ordered.end(),
                      [&](const nlohmann::json& a, const nlohmann::json& b) { return keyOf(a) < keyOf(b); });
-    const nlohmann::json doc = resultsJson(nlohmann::json(ordered), options, job);
+    const nlohmann::json doc = resultsJson(nlohmann::json(ordered), options, job, plan);
     writeTextFile(jsonFile.string(), doc.dump(1) + "\n");
     if (!options.jsonPath.empty()) writeTextFile(options.jsonPath, doc.dump(1) + "\n");
     writeTextFile(tableFile.string(), markdownTable(doc["results"]));
 
-    std::cout << "checked " << job.polypIndices.size() << " polyp(s) x " << job.poses.size() << " poses x 2 eyes x "
-              << job.maps.size() << " maps on " << context.driverDescription() << '\n';
+    std::cout << "checked " << job.polypIndices.size() << " polyp(s) x " << plan.poses.size() << " poses x 3 eyes x "
+              << job.maps.size() << " maps on " << context.driverDescription() << "; eyes where polyps subtend "
+              << plan.angularRadiusDeg << " degrees\n";
     for (const char* key : {"worst_aspect_error", "worst_circularity_error"}) {
-        std::cout << key << " (polyps >= 6 mm on the ceiling):";
+        std::cout << key << " (polyps >= 6 mm on the missing walls, targeted poses):";
         for (const auto& [map, value] : doc[key].items()) std::cout << ' ' << map << ' ' << percent(value.is_number() ? value.get<double>() : NAN);
         std::cout << '\n';
     }
@@ -340,6 +427,13 @@ void addPolypCheckCommand(CLI::App& program) {
     command->add_option("--display", options->display, "Display preset or JSON file with a missing wall")->capture_default_str();
     command->add_option("--polyps", options->polyps, "Polyps to check, by index in the truth (default: all)")
         ->delimiter(',');
+    command->add_option("--poses", options->poses,
+                        "Poses to check, by name (default: all of the display's; the names are in polyp_check.json)")
+        ->delimiter(',');
+    command->add_option("--maps", options->maps, "Maps to check: conformal (always), linear, none")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"conformal", "linear", "none"}))
+        ->capture_default_str();
     command->add_option("-o,--out", options->outFolder, "Output folder")->required();
     command->add_option("--json", options->jsonPath, "Also write the results' JSON to this file");
     command->add_option("--wall-size", options->wallSize,
@@ -347,11 +441,12 @@ void addPolypCheckCommand(CLI::App& program) {
                         "display's)");
     command->add_option("--map-size", options->mapSize, "Cube-map face size of the baked maps")->capture_default_str();
     command->add_option("--scale", options->mmPerMetre, "Volume millimetres per CAVE metre")->capture_default_str();
-    command->add_option("--warp", options->warp, "chord (the display default) or exact")
-        ->check(CLI::IsMember({"chord", "exact"}))
+    command->add_option("--warp", options->warp, "eye-centred (the display default), polyline, chord or exact")
+        ->check(CLI::IsMember(engine::bendingWarpModeNames()))
         ->capture_default_str();
     command->add_option("--angular-radius", options->angularRadiusDeg,
-                        "The polyp's angular radius from the eye in degrees (sets the eye's distance)")
+                        "The polyp's angular radius from the eye in degrees, at most: the eye comes as close as the "
+                        "map's predicted error at the targeted poses allows (down to 3 degrees)")
         ->check(CLI::Range(1.0, 30.0))
         ->capture_default_str();
     command->add_option("--device", options->device, "Vulkan device: an index, part of its name, cpu or gpu");

@@ -31,7 +31,7 @@ struct RenderOptions {
     std::string map;  // empty: the display's own
     int mapSize = 1024;
     std::string cubeMapFile;  // empty: the cached bake of the display's map
-    std::string warp = "chord";
+    std::string warp = "eye-centred";
     double mmPerMetre = 10.0;
     bool isWritingBeforeAfter = false;
     // Path

@@ -7,6 +7,10 @@
 /// `cvc_bench skipping`: empty-space skipping's cost or gain on one pinhole view, per step size
 /// (bench/skipping_bench.h, scripts/bench_march.sh).
 /// `cvc_bench view`: a pinhole view timed as the VTK yardstick times VTK (bench/view_bench.h).
+/// `cvc_bench stereo`: the stereo eyes' warps, time against error (bench/stereo_bench.h,
+/// scripts/bench_stereo.sh).
+/// `cvc_bench polyline`: how far the chord and the polyline stray from a stereo eye's bent ray
+/// (bench/polyline_study.h).
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -22,7 +26,9 @@
 #include "engine/core/gpu_context.h"
 #include "engine/output/png_writer.h"
 #include "engine/render/volume_texture.h"
+#include "bench/polyline_study.h"
 #include "bench/skipping_bench.h"
+#include "bench/stereo_bench.h"
 #include "bench/view_bench.h"
 #include "bench/warp_bench.h"
 #include "sampling_ceiling_spv.h"
@@ -140,6 +146,33 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     warpCommand->add_option("--device", warp.device, "Vulkan device");
     warpCommand->callback([&] { bench::runWarpBench(warp); });
+    bench::StereoBenchRequest stereo;
+    CLI::App* stereoCommand = program.add_subcommand(
+        "stereo", "A stereo display frame with each warp (chord, polyline, exact): device time and difference to exact");
+    stereoCommand->add_option("volume", stereo.volumePath, "Volume file")->required();
+    stereoCommand->add_option("--display", stereo.display, "Display preset or JSON")->capture_default_str();
+    stereoCommand->add_option("--path", stereo.pathFile, "Path with ground truth (e.g. a phantom's JSON)")->required();
+    stereoCommand->add_option("--polyp", stereo.polyp, "The polyp whose viewing pose is rendered")->capture_default_str();
+    stereoCommand->add_option("--polyp-elevation", stereo.polypElevationDeg, "Its elevation in degrees")
+        ->capture_default_str();
+    stereoCommand->add_option("--scale", stereo.mmPerMetre, "Scene millimetres per CAVE metre, one or more")
+        ->delimiter(',')
+        ->capture_default_str();
+    stereoCommand->add_option("--map-size", stereo.mapSize, "Cube-map texels per face edge")->capture_default_str();
+    stereoCommand->add_option("--runs", stereo.runs, "Repetitions of each mode (medians are reported)")
+        ->capture_default_str();
+    stereoCommand->add_option("--device", stereo.device, "Vulkan device");
+    stereoCommand->callback([&] { bench::runStereoBench(stereo); });
+    bench::PolylineStudyRequest polyline;
+    CLI::App* polylineCommand = program.add_subcommand(
+        "polyline", "How far the chord and the polyline stray from a stereo eye's bent ray, in pixel footprints");
+    polylineCommand->add_option("--display", polyline.display, "Display preset or JSON")->capture_default_str();
+    polylineCommand->add_option("--scale", polyline.mmPerMetre, "Scene millimetres per CAVE metre, one or more")
+        ->delimiter(',')
+        ->capture_default_str();
+    polylineCommand->add_option("--map-size", polyline.mapSize, "Cube-map texels per face edge")->capture_default_str();
+    polylineCommand->add_option("--directions", polyline.directions, "Directions over the sphere")->capture_default_str();
+    polylineCommand->callback([&] { bench::runPolylineStudy(polyline); });
     bench::SkippingBenchRequest skipping;
     CLI::App* skippingCommand = program.add_subcommand(
         "skipping", "Device time of a pinhole view without skipping, with looks decided per tile, and in every tile");

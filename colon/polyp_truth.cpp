@@ -43,12 +43,26 @@ std::vector<PolypSurface> readPolypTruth(const std::string& path) {
         // Checked as a string first: nlohmann's value() throws its own type_error for another type.
         const auto kindField = entry.find("kind");
         const std::string kind = kindField != entry.end() && kindField->is_string() ? kindField->get<std::string>() : "";
-        if (kind != "sessile" && kind != "pedunculated") throw ColonError(where + ": \"kind\" must be sessile or pedunculated");
-        polyp.isSessile = kind == "sessile";
+        if (kind != "sessile" && kind != "pedunculated" && kind != "flat")
+            throw ColonError(where + ": \"kind\" must be sessile, pedunculated or flat");
+        polyp.isSessile = kind != "pedunculated";
+        polyp.isFlat = kind == "flat";
         if (!entry.contains("diameter_mm") || !entry["diameter_mm"].is_number() || !(entry["diameter_mm"].get<double>() > 0.0)) {
             throw ColonError(where + ": \"diameter_mm\" must be a positive number");
         }
         polyp.diameterMm = entry["diameter_mm"].get<double>();
+        // Truth written before flat polyps has no sphere radius: its spheres are half the diameter.
+        const auto sphereField = entry.find("sphere_radius_mm");
+        if (sphereField != entry.end()) {
+            if (!sphereField->is_number() || !(sphereField->get<double>() >= 0.5 * polyp.diameterMm) ||
+                !std::isfinite(sphereField->get<double>())) {
+                throw ColonError(where + ": \"sphere_radius_mm\" must be a number of at least half the diameter");
+            }
+            polyp.sphereRadiusMm = sphereField->get<double>();
+        } else if (polyp.isFlat) {
+            throw ColonError(where +
+                             ": a flat polyp needs \"sphere_radius_mm\" (its cap's sphere is wider than the base)");
+        }
         polyp.centreMm = vec3Field(entry, "centre_mm", where);
         polyp.baseMm = vec3Field(entry, "base_mm", where);
         const glm::dvec3 normal = vec3Field(entry, "base_normal", where);
@@ -59,9 +73,24 @@ std::vector<PolypSurface> readPolypTruth(const std::string& path) {
     return polyps;
 }
 
+glm::dvec3 polypAimPointOf(const PolypSurface& polyp) {
+    if (!polyp.isSessile) return polyp.centreMm;
+    const double capHeight = polyp.sphereRadius() - glm::dot(polyp.baseMm - polyp.centreMm, polyp.baseNormal);
+    return polyp.baseMm + 0.5 * capHeight * polyp.baseNormal;
+}
+
+bool firstPolypHit(const PolypSurface& polyp, const glm::dvec3& originMm, const glm::dvec3& direction, glm::dvec3& hitMm) {
+    const double radius = polyp.sphereRadius();
+    const glm::dvec3 toCentre = polyp.centreMm - originMm;
+    const double along = glm::dot(toCentre, direction);
+    const double missSquared = glm::dot(toCentre, toCentre) - along * along;
+    if (along <= 0.0 || missSquared > radius * radius) return false;
+    hitMm = originMm + (along - std::sqrt(radius * radius - missSquared)) * direction;
+    return !polyp.isSessile || glm::dot(hitMm - polyp.baseMm, polyp.baseNormal) >= 0.0;
+}
+
 bool isOnPolyp(const PolypSurface& polyp, const glm::dvec3& pointMm, double toleranceMm) {
-    const double radius = 0.5 * polyp.diameterMm;
-    if (!(glm::length(pointMm - polyp.centreMm) <= radius + toleranceMm)) return false;
+    if (!(glm::length(pointMm - polyp.centreMm) <= polyp.sphereRadius() + toleranceMm)) return false;
     return !polyp.isSessile || glm::dot(pointMm - polyp.baseMm, polyp.baseNormal) >= -toleranceMm;
 }
 

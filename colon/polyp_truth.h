@@ -10,20 +10,39 @@
 namespace colon {
 
 struct PolypSurface {
-    bool isSessile = true;      ///< sessile: the half of a sphere above the wall; else a head on a stalk
-    double diameterMm = 0.0;
-    glm::dvec3 centreMm{0.0};   ///< sphere centre (sessile: on the wall surface)
+    /// Sessile or flat: the part of a sphere above the wall plane (a hemisphere, or a flat
+    /// polyp's low cap); otherwise a pedunculated polyp's head on a stalk.
+    bool isSessile = true;
+    bool isFlat = false;        ///< a flat (Paris 0-IIa-like) cap; isSessile is true for it too
+    double diameterMm = 0.0;    ///< the head's, or the base's for sessile and flat polyps
+    double sphereRadiusMm = 0.0; ///< the sphere's radius; 0 reads as diameterMm / 2 (see sphereRadius)
+    glm::dvec3 centreMm{0.0};   ///< sphere centre (sessile: on the wall surface; flat: below it)
     glm::dvec3 baseMm{0.0};     ///< where the polyp meets the wall
     glm::dvec3 baseNormal{0.0}; ///< unit wall normal at the base, into the lumen
+
+    /// The radius of the sphere the polyp's surface lies on: sphereRadiusMm when set, else
+    /// half the diameter (sessile and pedunculated polyps, and truth written before the field).
+    double sphereRadius() const { return sphereRadiusMm > 0.0 ? sphereRadiusMm : 0.5 * diameterMm; }
 };
 
-/// The "polyps" list of a ground-truth JSON file. Throws ColonError naming the file and the
-/// polyp for a missing file, a missing or malformed field, or a polyp of non-positive size.
+/// The "polyps" list of a ground-truth JSON file: kind sessile, pedunculated or flat; the
+/// optional "sphere_radius_mm" (absent: half the diameter; a flat polyp needs it, and it may
+/// not be less than half the diameter). Throws ColonError naming the file and the polyp for a
+/// missing file, a missing or malformed field, or a polyp of non-positive size.
 std::vector<PolypSurface> readPolypTruth(const std::string& path);
 
 /// Whether a surface point in volume millimetres lies on the polyp: on its sphere (the head of
 /// a pedunculated polyp; the stalk and the wall are not the polyp) within `toleranceMm`, and for
-/// a sessile polyp above the wall plane.
+/// a sessile or flat polyp above the wall plane.
 bool isOnPolyp(const PolypSurface& polyp, const glm::dvec3& pointMm, double toleranceMm);
+
+/// The point a polyp is aimed at and its distance measured to: a pedunculated polyp's head
+/// centre, or half way up a sessile or flat polyp's cap above its base.
+glm::dvec3 polypAimPointOf(const PolypSurface& polyp);
+
+/// Where the ray from `originMm` along the unit `direction` first meets the polyp's own surface
+/// (its sphere; for a sessile or flat polyp the part above the wall plane, below which the wall
+/// hides the sphere), with nothing else in the way; nothing (false) where it does not.
+bool firstPolypHit(const PolypSurface& polyp, const glm::dvec3& originMm, const glm::dvec3& direction, glm::dvec3& hitMm);
 
 }  // namespace colon

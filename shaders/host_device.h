@@ -52,6 +52,7 @@ using uint = std::uint32_t;
 #define CVC_WARP_NONE 0
 #define CVC_WARP_CHORD 1   // map the near and far ends of the ray, march the chord (paper Eq. 7)
 #define CVC_WARP_EXACT 2   // map every sample (the reference for stereo eyes)
+#define CVC_WARP_POLYLINE 3  // march a polyline through mapped points of the ray (shaders/polyline_warp.glsl)
 #define CVC_GRADIENT_CENTRAL 0  // central differences of the filtered volume (6 trilinear fetches)
 #define CVC_GRADIENT_BSPLINE 1  // central differences of the cubic B-spline interpolant (48 fetches, smooth)
 // A pixel's chord, in CAVE axes about the map centre, depends only on the display, the eye and
@@ -66,6 +67,12 @@ using uint = std::uint32_t;
 // longest chord (shaders/ray_start.glsl), which the tile pass reads in place of every chord.
 #define CVC_CHORD_TABLE_BYTES_PER_PIXEL 32
 #define CVC_CHORD_TABLE_BYTES_PER_TILE (CVC_TILE_SIZE * CVC_TILE_SIZE * CVC_CHORD_TABLE_BYTES_PER_PIXEL + 16)
+// The polyline warp's table has the same order, four vec4s a pixel (shaders/polyline_warp.glsl):
+// the polyline's start and its length; its first piece's octahedral direction, length and the
+// map's local scale; the second piece's direction and length, and the third's length; the third
+// and fourth pieces' directions. The tile's cone bound follows as in the chord table.
+#define CVC_POLYLINE_TABLE_BYTES_PER_PIXEL 64
+#define CVC_POLYLINE_TABLE_BYTES_PER_TILE (CVC_TILE_SIZE * CVC_TILE_SIZE * CVC_POLYLINE_TABLE_BYTES_PER_PIXEL + 16)
 // A pass over the image's tiles (one invocation per CVC_TILE_SIZE^2 pixels) writes, per tile, a
 // ray parameter before which every ray of the tile crosses only empty cells; the march reads it.
 #define CVC_RAY_START_NONE 0  // rays start where they enter the box

@@ -12,6 +12,9 @@
 // t1 <= (R - alpha + t) / (1 + beta), and t moves there. Pinhole rays share their origin
 // (alpha = 0) and beta is the chord of the tile's angular radius: the usual cone.
 //
+// A polyline warp's rays are polylines marched by arc length: the same bound holds with alpha and
+// beta from polylineOffsetBound, which follows the pieces of both polylines.
+//
 // Chords read from the chord table need not be visited: a pose turns and moves all of a tile's
 // chords alike, so alpha, beta and the longest chord, measured once in CAVE axes when the table
 // is filled (writeTileBound), hold for every frame. The pass then reads one chord and that bound
@@ -67,11 +70,40 @@ TilePixels tilePixels(uvec2 tile) {
     return p;
 }
 
+// A pixel's polyline as the polyline table holds it (CAVE axes about the map centre).
+Polyline tablePolylineOf(uvec2 pixel) {
+    uint entry = chordTableEntry(pixel);
+    return polylineOfRecord(chordTable[entry], chordTable[entry + 1u], chordTable[entry + 2u], chordTable[entry + 3u]);
+}
+
 // The chord table's fill, second pass: a tile's cone bound from its chords as the fill wrote
 // them (CAVE axes about the map centre), after its pixels in the table.
 void writeTileBound(uvec2 tile) {
     if (!isTileInImage(tile)) return;
     TilePixels pixels = tilePixels(tile);
+    if (kWarp == CVC_WARP_POLYLINE) {
+        // In the table's own axes: the bound holds for every pose, which turns all rays alike.
+        Polyline reference = tablePolylineOf(pixels.centre);
+        vec3 referenceLast = reference.dirs[reference.count - 1];
+        float beta = 0.0;
+        float longest = 0.0;
+        for (uint y = pixels.first.y; y <= pixels.last.y; ++y) {
+            for (uint x = pixels.first.x; x <= pixels.last.x; ++x) {
+                Polyline line = tablePolylineOf(uvec2(x, y));
+                beta = max(beta, length(line.dirs[line.count - 1] - referenceLast));
+                longest = max(longest, line.ends[line.count - 1]);
+            }
+        }
+        float alpha = 0.0;
+        for (uint y = pixels.first.y; y <= pixels.last.y; ++y) {
+            for (uint x = pixels.first.x; x <= pixels.last.x; ++x) {
+                Polyline line = tablePolylineOf(uvec2(x, y));
+                alpha = max(alpha, polylineOffsetBound(line, reference, beta));
+            }
+        }
+        chordTable[chordTableBoundEntry(tile)] = vec4(alpha, beta, longest, 0.0);
+        return;
+    }
     uint centre = chordTableEntry(pixels.centre);
     vec3 referenceStart = chordTable[centre].xyz;
     vec3 referenceDir = directionFromOctahedral(chordTable[centre + 1u].xy);
@@ -94,15 +126,16 @@ void writeTileBound(uvec2 tile) {
 // it cell by cell, an empty cell with room to skip comes before a cell that can contribute (or
 // the walk runs out of cells before it decides). Leaving the box decides no.
 bool isRoomToSkipAhead(Segment reference, float t, float tTo) {
-    vec3 invDir = safeInverse(reference.dir);
     float nudgeMm = 0.01 * cellVoxels() * minSpacingMm();  // into the next cell, past rounding
     for (int i = 0; i < kMaxTileWalkCells; ++i) {
         if (!(t < tTo)) return false;
+        // A polyline, once on the piece that holds t, may have left the box there.
+        if (kWarp == CVC_WARP_POLYLINE && !isMarching(reference, t)) return false;
         ivec3 cell = cellOf(reference.origin + t * reference.dir);
         uint distanceCells = skipDistanceAt(cell);
         if (distanceCells >= 2u) return true;
         if (distanceCells == 0u) return false;
-        t = max(cellExitT(reference.origin, invDir, cell), t) + nudgeMm;
+        t = max(cellExitT(reference.origin, reference.invDir, cell), t) + nudgeMm;
     }
     return true;
 }
@@ -112,6 +145,12 @@ bool isRoomToSkipAhead(Segment reference, float t, float tTo) {
 void writeTileStart(uvec2 tile) {
     if (!isTileInImage(tile)) return;
     TilePixels pixels = tilePixels(tile);
+    if (kWarp == CVC_WARP_POLYLINE && kChordTable != CVC_CHORD_TABLE_READ) {
+        // Polylines made per ray have no bound at hand (the ray caster does not run this pass
+        // for them): every ray marches from its own start and looks at the distance map.
+        rayStartTable[tileIndexOf(tile)] = vec2(0.0, 1.0);
+        return;
+    }
     Segment reference = segmentForPixel(pixels.centre);
     float alpha = 0.0;
     float beta = 0.0;
@@ -137,6 +176,7 @@ void writeTileStart(uvec2 tile) {
     }
     float t = tFrom < tTo ? tFrom : 0.0;
     for (int i = 0; i < kMaxTileSkips && t < tTo; ++i) {
+        if (kWarp == CVC_WARP_POLYLINE) reference = alongPolylineTo(reference, t);
         float next = (emptyRadiusMm(reference.origin + t * reference.dir) - alpha + t) / (1.0 + beta);
         if (next < t + u.stepMm) break;  // less than a step gained: the march takes it from here
         t = next;

@@ -4,6 +4,8 @@
 // conformal map, then marched through the volume in iso-surface mode (first crossing of an
 // iso value, refined by bisection) or composite mode (transfer function, front-to-back
 // blending, early termination). Writes the colour and, on request, the first-hit position.
+// A bent ray is marched as one chord (paper Eq. 7), as a polyline through points of the warped
+// ray (polyline_warp.glsl: the stereo eyes' default), or by warping every sample (the reference).
 #extension GL_GOOGLE_include_directive : require
 
 #include "host_device.h"
@@ -39,6 +41,7 @@ layout(std430, binding = CVC_BINDING_CHORD_TABLE) buffer ChordTable { vec4 chord
 
 #include "ray_box.glsl"
 #include "ray_generation.glsl"
+#include "polyline_warp.glsl"
 #include "jitter.glsl"
 #include "volume_sampling.glsl"
 #include "transfer_function.glsl"
@@ -49,7 +52,9 @@ const vec3 kSurfaceColor = vec3(0.93, 0.60, 0.50);  // iso-surface albedo, a muc
 const int kStepsPerSkipCheck = 4;  // plain steps of the march between looks at the empty-space map
 
 // The straight segment a ray marches: origin + t * dir for t in [tStart, tEnd]. In exact-warp
-// mode it is the undistorted ray, and every sample point is mapped through W.
+// mode it is the undistorted ray, and every sample point is mapped through W. In polyline mode
+// it is the polyline's current piece, with origin and tcOrigin moved along it so that t is the
+// arc length from the polyline's start.
 struct Segment {
     vec3 origin;
     vec3 dir;
@@ -60,11 +65,22 @@ struct Segment {
     float eyeDistance;  // distance from the eye to origin + tStart * dir, minus tStart
     float localScale;   // the map's local scale along this pixel's display direction
     float speedBound;   // exact mode: the map's angular speed bound near the ray's final direction
+    vec3 invDir;        // 1 / dir without division by zero (ray_box.glsl), for cell exits
+    // Polyline mode: the piece that origin and dir follow, the arc length where it ends (3e38
+    // for the last piece, and in other modes), the later pieces as the table holds them (their
+    // octahedral directions in CAVE axes and lengths, polyline_warp.glsl: decoded when the march
+    // reaches them), and whether tEnd follows the pieces (where the polyline starts in the box).
+    int piece;
+    float pieceEnd;
+    vec4 laterPieces0;
+    vec4 laterPieces1;
+    bool isEndOnPiece;
 };
 
 Segment withTextureRay(Segment s) {
     s.tcOrigin = texFromMm(s.origin);
     s.tcDir = s.dir * u.texFromMmScale;
+    s.invDir = safeInverse(s.dir);
     return s;
 }
 
@@ -77,14 +93,17 @@ uint tileIndexOf(uvec2 tile) {
 // The chord table is laid out tile by tile (each tile's CVC_TILE_SIZE^2 pixels row by row, then
 // its cone bound, then the next tile), in the order the work groups run, so that on a CPU
 // device a frame reads it as one stream. (Laid out by image rows, a tile's rows would lie a
-// wall's width apart, each on a page of its own; docs/benchmarks.md.)
-const uint kChordTableVec4sPerTile = CVC_CHORD_TABLE_BYTES_PER_TILE / 16;
+// wall's width apart, each on a page of its own; docs/benchmarks.md.) The polyline warp's
+// table has the same order with four vec4s a pixel.
+const uint kChordTableVec4sPerPixel = kWarp == CVC_WARP_POLYLINE ? CVC_POLYLINE_TABLE_BYTES_PER_PIXEL / 16
+                                                                 : CVC_CHORD_TABLE_BYTES_PER_PIXEL / 16;
+const uint kChordTableVec4sPerTile = CVC_TILE_SIZE * CVC_TILE_SIZE * kChordTableVec4sPerPixel + 1u;
 
 // A pixel's first vec4 in the chord table.
 uint chordTableEntry(uvec2 pixel) {
     uvec2 inTile = pixel % CVC_TILE_SIZE;
     uint tile = tileIndexOf(pixel / CVC_TILE_SIZE);
-    return tile * kChordTableVec4sPerTile + 2u * (inTile.y * CVC_TILE_SIZE + inTile.x);
+    return tile * kChordTableVec4sPerTile + kChordTableVec4sPerPixel * (inTile.y * CVC_TILE_SIZE + inTile.x);
 }
 
 // A tile's cone bound in the chord table (ray_start.glsl), after its pixels' chords.
@@ -114,11 +133,109 @@ Segment chordFromTable(uvec2 pixel) {
     s.eyeDistance = start.w;
     s.localScale = direction.w;
     s.speedBound = 0.0;
+    s.pieceEnd = 3.0e38;
+    s.piece = 0;
+    s.isEndOnPiece = false;
     return clippedChord(s, direction.z);
 }
 
+// Moves s from its piece onto the next, which starts where the current one ends. With tEnd
+// following the pieces, the march ends where the new piece leaves the box (or at once, should
+// the vertex lie outside it).
+Segment onNextPiece(Segment s) {
+    int k = s.piece + 1;
+    float pieceStart = s.pieceEnd;
+    vec3 vertex = s.origin + pieceStart * s.dir;
+    vec2 octahedral = k == 1 ? s.laterPieces0.xy : (k == 2 ? s.laterPieces1.xy : s.laterPieces1.zw);
+    float pieceLength = k == 1 ? s.laterPieces0.z : (k == 2 ? s.laterPieces0.w : 0.0);
+    s.piece = k;
+    s.dir = caveToVolume() * directionFromOctahedral(octahedral);
+    s.origin = vertex - pieceStart * s.dir;
+    s.pieceEnd = pieceLength > 0.0 ? pieceStart + pieceLength : 3.0e38;
+    if (s.isEndOnPiece) {
+        s.tEnd = isInsideBox(vertex) ? pieceStart + intersectBox(vertex, s.dir, u.boxMinMm, u.boxMaxMm).y : pieceStart;
+    }
+    return withTextureRay(s);
+}
+
+// Moves s onto the piece that holds arc length t (at or after its current piece).
+Segment alongPolylineTo(Segment s, float t) {
+    for (int k = 1; k < kMaxPolylinePieces && t > s.pieceEnd; ++k) s = onNextPiece(s);
+    return s;
+}
+
+// A polyline's segment from its record (polyline_warp.glsl; CAVE axes about the map centre),
+// turned into this frame, on its first piece. Where it starts inside the box (the eye inside the
+// volume), the march begins at its start and tEnd follows the pieces; else the first stretch
+// inside the box is found piece by piece.
+Segment polylineFromRecord(vec4 r0, vec4 r1, vec4 r2, vec4 r3, float eyeDistance) {
+    mat3 toVolume = caveToVolume();
+    Segment s;
+    s.origin = u.mapCentreMm + toVolume * r0.xyz;
+    s.dir = toVolume * directionFromOctahedral(r1.xy);
+    s.piece = 0;
+    s.pieceEnd = r1.z > 0.0 ? r1.z : 3.0e38;
+    s.localScale = r1.w;
+    s.laterPieces0 = r2;
+    s.laterPieces1 = r3;
+    s.eyeDistance = eyeDistance;
+    s.speedBound = 0.0;
+    s = withTextureRay(s);
+    if (isInsideBox(s.origin)) {
+        s.tStart = 0.0;
+        s.tEnd = intersectBox(s.origin, s.dir, u.boxMinMm, u.boxMaxMm).y;
+        s.isEndOnPiece = true;
+        return s;
+    }
+    s.isEndOnPiece = false;
+    s.tStart = 1.0;
+    s.tEnd = 0.0;
+    Segment walker = s;
+    bool isInside = false;
+    float pieceStart = 0.0;
+    for (int k = 0; k < kMaxPolylinePieces; ++k) {
+        if (k > 0) {
+            if (walker.pieceEnd >= 3.0e38) break;  // that was the last piece
+            pieceStart = walker.pieceEnd;
+            walker = onNextPiece(walker);
+        }
+        vec2 span = intersectBox(walker.origin, walker.dir, u.boxMinMm, u.boxMaxMm);  // in arc length
+        float from = max(span.x, pieceStart), to = min(span.y, walker.pieceEnd);
+        if (!(from <= to)) {
+            if (isInside) break;  // left the box at the last piece's end
+            continue;
+        }
+        if (!isInside) {
+            s.tStart = from;
+            isInside = true;
+        } else if (from > s.tEnd) {
+            break;  // left the box before this piece came back into it
+        }
+        s.tEnd = to;
+        if (to < walker.pieceEnd) break;  // leaves the box on this piece
+    }
+    return s;
+}
+
+// A pixel's polyline from the table, turned into this frame.
+Segment polylineFromTable(uvec2 pixel) {
+    uint entry = chordTableEntry(pixel);
+    vec3 dir = normalize(wallPointMm(pixel) - u.eyeMm);
+    float eyeDistance = u.nearMm / max(dot(dir, u.wallNormal), 1e-3);  // segmentForPixel's tNear
+    return polylineFromRecord(chordTable[entry], chordTable[entry + 1u], chordTable[entry + 2u],
+                              chordTable[entry + 3u], eyeDistance);
+}
+
+// Whether the march along s goes on at t: for a polyline, once s is on the piece that holds t.
+bool isMarching(inout Segment s, float t) {
+    if (kWarp == CVC_WARP_POLYLINE && t > s.pieceEnd) s = alongPolylineTo(s, t);
+    return t <= s.tEnd;
+}
+
 Segment segmentForPixel(uvec2 pixel) {
-    if (kChordTable == CVC_CHORD_TABLE_READ) return chordFromTable(pixel);
+    if (kChordTable == CVC_CHORD_TABLE_READ) {
+        return kWarp == CVC_WARP_POLYLINE ? polylineFromTable(pixel) : chordFromTable(pixel);
+    }
     vec3 eye = u.eyeMm;
     vec3 wallPoint = wallPointMm(pixel);
     vec3 dir = normalize(wallPoint - eye);
@@ -129,6 +246,9 @@ Segment segmentForPixel(uvec2 pixel) {
     s.localScale = 1.0;
     s.speedBound = 0.0;
     s.eyeDistance = 0.0;
+    s.pieceEnd = 3.0e38;
+    s.piece = 0;
+    s.isEndOnPiece = false;
     if (kWarp == CVC_WARP_NONE) {
         vec2 span = intersectBox(eye, dir, u.boxMinMm, u.boxMaxMm);
         s.origin = eye;
@@ -143,9 +263,11 @@ Segment segmentForPixel(uvec2 pixel) {
     // on the pose (while the centre is inside the box), so the chord table stays valid.
     vec3 c = u.mapCentreMm;
     float tFar = u.chordReachMm + length(eye - c) + tNear;
-    // Only the adaptive step reads the map's local scale (and the table keeps it for that):
-    // other variants save the fetch.
-    if (kAdaptive || kChordTable == CVC_CHORD_TABLE_FILL) s.localScale = sceneFromDisplay(normalize(wallPoint - c)).w;
+    // Only the adaptive step and the polyline's tolerance read the map's local scale (and the
+    // table keeps it): other variants save the fetch.
+    if (kAdaptive || kChordTable == CVC_CHORD_TABLE_FILL || kWarp == CVC_WARP_POLYLINE) {
+        s.localScale = sceneFromDisplay(normalize(wallPoint - c)).w;
+    }
     if (kWarp == CVC_WARP_EXACT) {
         // The direction of a ray's point seen from the map centre turns toward dir as the ray
         // goes on: the bound near dir serves its skips (skipAlongBentRay).
@@ -155,6 +277,24 @@ Segment segmentForPixel(uvec2 pixel) {
         s.tStart = tNear;
         s.tEnd = tFar;
         return s;
+    }
+    if (kWarp == CVC_WARP_POLYLINE) {
+        // Recorded as the table records it (CAVE axes about the map centre, the same for every
+        // pose, as the chord's below), so a polyline made per ray is marched as one read.
+        vec4 r0, r1, r2, r3;
+        recordOfPolyline(polylineOfRay(eye, dir, tNear, tFar, s.localScale), transpose(caveToVolume()), c,
+                         s.localScale, r0, r1, r2, r3);
+        if (kChordTable == CVC_CHORD_TABLE_FILL) {
+            uint entry = chordTableEntry(pixel);
+            chordTable[entry] = r0;
+            chordTable[entry + 1u] = r1;
+            chordTable[entry + 2u] = r2;
+            chordTable[entry + 3u] = r3;
+            s.tStart = 1.0;
+            s.tEnd = 0.0;
+            return s;
+        }
+        return polylineFromRecord(r0, r1, r2, r3, tNear);
     }
     // Chord mode (paper Eq. 7): map the near and far points, march the chord between them.
     vec3 a = warpPoint(eye + tNear * dir);
@@ -252,7 +392,7 @@ bool skipAlongBentRay(Segment s, inout float tCheck, inout float wait, inout flo
 }
 
 // `wait` is the exact warp's: the steps its next fruitless look waits (skipAlongBentRay).
-bool skipEmptySpace(Segment s, vec3 invDir, inout float tCheck, inout float wait, inout float t, inout float tPrev) {
+bool skipEmptySpace(Segment s, inout float tCheck, inout float wait, inout float t, inout float tPrev) {
     if (!kSkipping || t < tCheck) return false;
     if (kWarp == CVC_WARP_EXACT) return skipAlongBentRay(s, tCheck, wait, t, tPrev);
     ivec3 cell = cellOf(s.origin + t * s.dir);
@@ -261,7 +401,7 @@ bool skipEmptySpace(Segment s, vec3 invDir, inout float tCheck, inout float wait
     float freeMm = float(max(distanceCells, 1u) - 1u) * cellVoxels() * minSpacingMm();
     float steps = floor(freeMm / step);
     if (steps < 1.0) {
-        tCheck = cellExitT(s.origin, invDir, cell);
+        tCheck = cellExitT(s.origin, s.invDir, cell);
         return false;
     }
     t += steps * step;
@@ -281,6 +421,17 @@ vec3 normalAt(vec3 p, vec3 towardEye) {
     return gLength > kFlatGradientHuPerMm ? -g / gLength : towardEye;
 }
 
+// The direction in which the ray arrives at its point p = pointAt(s, t), reversed: where the
+// viewer's headlight and line of sight come from. A bent ray arrives along its own tangent, not
+// from where the eye sits: the exact warp's tangent is taken from the mapped point half a step
+// back; the chord's and the polyline's pieces are their tangents.
+vec3 towardEyeAt(Segment s, float t, vec3 p) {
+    if (kWarp != CVC_WARP_EXACT) return -s.dir;
+    vec3 back = pointAt(s, t - 0.5 * u.stepMm) - p;
+    float backLength = length(back);
+    return backLength > 1e-6 ? back / backLength : normalize(u.eyeMm - p);
+}
+
 void main() {
     if (kRayStart == CVC_RAY_START_FILL) {  // one invocation per tile; no image is written
         if (kChordTable == CVC_CHORD_TABLE_FILL) {
@@ -297,10 +448,10 @@ void main() {
     if (kChordTable == CVC_CHORD_TABLE_FILL) return;  // the table is written; no image is
     float tOwnStart = s.tStart;
     s.tStart = rayStartOf(s, pixel);
+    if (kWarp == CVC_WARP_POLYLINE) s = alongPolylineTo(s, s.tStart);
     float tFirst = -1.0;  // the first sample that contributes (for CVC_HIT_OUTPUT_RAY_STARTS)
     // Fraction of a step by which the first sample is offset; 0 without jitter.
     float jitter = kJitter ? jitterFraction(pixel, u.jitterSeed) : 0.0;
-    vec3 invDir = safeInverse(s.dir);
     int maxSteps = int(u.maxSteps);
     float iso = u.isoHu;
 
@@ -326,8 +477,8 @@ void main() {
             bool isPrevKnown = true;
             float vHit = vStart;
             t += (jitter > 0.0 ? jitter : 1.0) * stepAt(s, t);  // tStart itself was just sampled
-            for (int i = 0; i < maxSteps && !isHit && t <= s.tEnd;) {
-                if (skipEmptySpace(s, invDir, tCheck, skipWait, t, tPrev)) {
+            for (int i = 0; i < maxSteps && !isHit && isMarching(s, t);) {
+                if (skipEmptySpace(s, tCheck, skipWait, t, tPrev)) {
                     isPrevKnown = false;
                     ++i;
                     continue;
@@ -335,7 +486,9 @@ void main() {
                 // Up to kStepsPerSkipCheck plain steps before the distance map is looked at again:
                 // its lookup and cell arithmetic run for the whole vector whenever one ray needs
                 // them, so they are paid once per chunk, not once per step.
-                for (int k = 0; k < kStepsPerSkipCheck && !isHit && t <= s.tEnd; ++k, ++i) {
+                // (A polyline's march moves onto its next piece in isMarching: rare for a ray,
+                // so the vector pays it a few times per march.)
+                for (int k = 0; k < kStepsPerSkipCheck && !isHit && isMarching(s, t); ++k, ++i) {
                     float value = valueAt(s, t);
                     isHit = value >= iso;
                     if (!isHit) {
@@ -351,7 +504,10 @@ void main() {
                 float tHit = isInside ? s.tStart : t;
                 if (!isInside && kRefinementSteps > 0) {
                     // The crossing lies in (tPrev, t]: bisect, keeping lo below and hi at or above
-                    // the iso value, then interpolate linearly between their known values.
+                    // the iso value, then interpolate linearly between their known values. (Where a
+                    // polyline's vertex lies in that step, its part before the vertex is read on the
+                    // next piece's line: off the polyline by the step times the angle between the
+                    // pieces, hundredths of a millimetre.)
                     float lo = tPrev, hi = t;
                     float vLo = isPrevKnown ? vPrev : valueAt(s, lo);  // after a skip: one fetch
                     float vHi = vHit;
@@ -371,7 +527,7 @@ void main() {
                 }
                 tFirst = tHit;
                 vec3 p = pointAt(s, tHit);
-                vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm - p) : -s.dir;
+                vec3 towardEye = towardEyeAt(s, tHit, p);
                 vec3 normal = normalAt(p, towardEye);
                 color = shadeCookTorrance(normal, towardEye, tHit + s.eyeDistance, kSurfaceColor);
                 hit = vec4(kHitOutput == CVC_HIT_OUTPUT_NORMAL ? normal : p, 1.0);
@@ -381,14 +537,14 @@ void main() {
             vec4 accumulated = vec4(0.0);
             t += jitter * stepAt(s, t);
             bool isOpaque = false;
-            for (int i = 0; i < maxSteps && !isOpaque && t <= s.tEnd;) {
-                if (skipEmptySpace(s, invDir, tCheck, skipWait, t, tPrev)) {
+            for (int i = 0; i < maxSteps && !isOpaque && isMarching(s, t);) {
+                if (skipEmptySpace(s, tCheck, skipWait, t, tPrev)) {
                     ++i;
                     continue;
                 }
                 // As in the iso march, the distance map is looked at once per chunk of plain
                 // steps, not before every sample (7 % of the yardstick's composite time).
-                for (int k = 0; k < kStepsPerSkipCheck && !isOpaque && t <= s.tEnd; ++k, ++i) {
+                for (int k = 0; k < kStepsPerSkipCheck && !isOpaque && isMarching(s, t); ++k, ++i) {
                     float step = stepAt(s, t);
                     vec3 p = pointAt(s, t);
                     float value = valueAt(s, t);
@@ -399,7 +555,7 @@ void main() {
                     if (sampleColor.a > 1.0 / 1024.0) {
                         if (tFirst < 0.0) tFirst = t;
                         // Gradients only for samples that contribute.
-                        vec3 towardEye = kWarp == CVC_WARP_EXACT ? normalize(u.eyeMm - p) : -s.dir;
+                        vec3 towardEye = towardEyeAt(s, t, p);
                         vec3 normal = normalAt(p, towardEye);
                         vec3 shaded = shadeCookTorrance(normal, towardEye, t + s.eyeDistance, sampleColor.rgb);
                         accumulated.rgb += (1.0 - accumulated.a) * sampleColor.a * shaded;

@@ -6,126 +6,19 @@
 #include <limits>
 
 #include "volumes/parallel_for.h"
+#include "volumes/phantom_polyps.h"
+#include "volumes/phantom_tube.h"
 #include "volumes/polyline.h"
 
 namespace volumes {
 namespace {
 
-/// Free space a pedunculated polyp's head leaves around the centreline (mm).
-constexpr double kCentrelineClearanceMm = 1.5;
-
-
 constexpr double kPi = 3.14159265358979323846;
-/// Centreline vertices are this far apart along the curve.
-constexpr double kCentrelineStepMm = 1.0;
 /// Voxels are classified in slabs of this many z layers (bounded scratch memory, one per thread).
 constexpr int kSlabLayers = 16;
 
 [[noreturn]] void fail(const std::string& problem) {
     throw VolumeError("colon phantom: " + problem);
-}
-
-/// Catmull-Rom spline through `points`, sampled every ~kCentrelineStepMm along its length.
-std::vector<glm::dvec3> smoothPolyline(const std::vector<glm::dvec3>& points) {
-    std::vector<glm::dvec3> dense;
-    const int spans = static_cast<int>(points.size()) - 1;
-    for (int i = 0; i < spans; ++i) {
-        const glm::dvec3 p0 = points[static_cast<std::size_t>(std::max(i - 1, 0))];
-        const glm::dvec3 p1 = points[static_cast<std::size_t>(i)];
-        const glm::dvec3 p2 = points[static_cast<std::size_t>(i + 1)];
-        const glm::dvec3 p3 = points[static_cast<std::size_t>(std::min(i + 2, spans))];
-        for (int s = 0; s < 200; ++s) {
-            const double t = s / 200.0, t2 = t * t, t3 = t2 * t;
-            dense.push_back(0.5 * ((2.0 * p1) + (-p0 + p2) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2 +
-                                   (-p0 + 3.0 * p1 - 3.0 * p2 + p3) * t3));
-        }
-    }
-    dense.push_back(points.back());
-    return resampleByArc(dense, kCentrelineStepMm);
-}
-
-/// The centreline with arc lengths and a rotation-minimising frame (Wang et al. 2008, double
-/// reflection), so "angle around the centreline" does not twist along the tube.
-struct Centreline {
-    std::vector<glm::dvec3> points, tangents, normals;
-    std::vector<double> arcMm;
-
-    explicit Centreline(std::vector<glm::dvec3> polyline) : points(std::move(polyline)) {
-        const std::size_t n = points.size();
-        arcMm.assign(n, 0.0);
-        for (std::size_t i = 1; i < n; ++i) arcMm[i] = arcMm[i - 1] + glm::length(points[i] - points[i - 1]);
-        tangents.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            tangents[i] = glm::normalize(points[std::min(i + 1, n - 1)] - points[i == 0 ? 0 : i - 1]);
-        }
-        normals.resize(n);
-        const glm::dvec3 t0 = tangents[0];
-        const glm::dvec3 helper = std::abs(t0.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-        normals[0] = glm::normalize(glm::cross(t0, glm::cross(helper, t0)));
-        for (std::size_t i = 0; i + 1 < n; ++i) {
-            const glm::dvec3 v1 = points[i + 1] - points[i];
-            const double c1 = glm::dot(v1, v1);
-            const glm::dvec3 rL = normals[i] - (2.0 / c1) * glm::dot(v1, normals[i]) * v1;
-            const glm::dvec3 tL = tangents[i] - (2.0 / c1) * glm::dot(v1, tangents[i]) * v1;
-            const glm::dvec3 v2 = tangents[i + 1] - tL;
-            const double c2 = glm::dot(v2, v2);
-            glm::dvec3 next = c2 > 1e-20 ? rL - (2.0 / c2) * glm::dot(v2, rL) * v2 : rL;
-            next -= glm::dot(next, tangents[i + 1]) * tangents[i + 1];
-            normals[i + 1] = glm::normalize(next);
-        }
-    }
-    double length() const { return arcMm.back(); }
-
-    /// Point, tangent and normal at arc length s (clamped), interpolated between vertices.
-    void frameAt(double s, glm::dvec3& point, glm::dvec3& tangent, glm::dvec3& normal) const {
-        s = std::clamp(s, 0.0, length());
-        const std::size_t i =
-            std::min<std::size_t>(std::upper_bound(arcMm.begin(), arcMm.end(), s) - arcMm.begin(), points.size() - 1);
-        const std::size_t a = i == 0 ? 0 : i - 1;
-        const double span = arcMm[i] - arcMm[a];
-        const double t = span > 0.0 ? (s - arcMm[a]) / span : 0.0;
-        point = glm::mix(points[a], points[i], t);
-        tangent = glm::normalize(glm::mix(tangents[a], tangents[i], t));
-        normal = glm::mix(normals[a], normals[i], t);
-        normal = glm::normalize(normal - glm::dot(normal, tangent) * tangent);
-    }
-};
-
-struct Fold {
-    double arcMm;
-    double angleRad;
-};
-
-struct PolypSolid {
-    PolypTruth truth;
-    glm::dvec3 stalkStart{0.0}, stalkEnd{0.0};
-    double stalkRadiusMm = 0.0;
-};
-
-/// Signed distance to the polyps' union (negative inside a polyp).
-double polypDistance(const std::vector<PolypSolid>& polyps, const glm::dvec3& p) {
-    double d = std::numeric_limits<double>::max();
-    for (const PolypSolid& polyp : polyps) {
-        d = std::min(d, glm::length(p - polyp.truth.centreMm) - polyp.truth.radiusMm);
-        if (polyp.truth.kind == PolypKind::Pedunculated) {
-            double t = 0.0;
-            d = std::min(d, distanceToSegmentMm(p, polyp.stalkStart, polyp.stalkEnd, &t) - polyp.stalkRadiusMm);
-        }
-    }
-    return d;
-}
-
-/// How far the lumen wall is pulled in by haustral folds at arc s and angle theta (mm).
-double foldIntrusion(const ColonPhantomSpec& spec, const std::vector<Fold>& folds, double s, double theta) {
-    double intrusion = 0.0;
-    for (const Fold& fold : folds) {
-        const double x = (s - fold.arcMm) / spec.foldHalfWidthMm;
-        if (std::abs(x) >= 1.0) continue;
-        // Semilunar: the ridge spans two thirds of the circumference, deepest opposite its gap.
-        const double around = std::clamp((std::cos(theta - fold.angleRad) + 0.5) / 0.8, 0.0, 1.0);
-        intrusion = std::max(intrusion, spec.foldDepthMm * (1.0 - x * x) * around);
-    }
-    return intrusion;
 }
 
 /// SplitMix64's finaliser: a counter-based hash, so value n depends only on (seed, n).
@@ -499,61 +392,45 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
     }
     phantom.centrelineMm = line.points;
 
-    // Polyps: on the wall at their arc and angle, base normal pointing into the lumen.
+    // Listed polyps: on the wall at their arc and angle, base normal pointing into the lumen.
+    // Random ones are laid out once the folds are placed, since some stand on them.
+    if (spec.randomPolypCount < 0 || spec.randomPolypCount > kMaxRandomPolyps) {
+        fail(std::to_string(spec.randomPolypCount) + " random polyps asked for; 1.." +
+             std::to_string(kMaxRandomPolyps) + " fit in the colon (0: the listed polyps)");
+    }
+    const bool isRandomLayout = spec.randomPolypCount > 0;
     std::vector<PolypSolid> polyps;
-    for (const PolypSpec& p : spec.polyps) {
+    for (const PolypSpec& p : isRandomLayout ? std::vector<PolypSpec>() : spec.polyps) {
         if (!(p.diameterMm >= 3.0 && p.diameterMm <= 15.0))
             fail("polyp diameter " + std::to_string(p.diameterMm) + " mm is outside 3..15 mm");
         if (!(p.arcFraction >= 0.0 && p.arcFraction <= 1.0))
             fail("polyp position " + std::to_string(p.arcFraction) + " is outside 0..1");
         if (!std::isfinite(p.angleDeg)) fail("polyp angle is not finite");
-        PolypSolid solid;
-        PolypTruth& truth = solid.truth;
-        truth.kind = p.kind;
-        truth.radiusMm = 0.5 * p.diameterMm;
-        truth.arcLengthMm = p.arcFraction * line.length();
-        glm::dvec3 point, tangent, normal;
-        line.frameAt(truth.arcLengthMm, point, tangent, normal);
-        const glm::dvec3 binormal = glm::cross(tangent, normal);
-        const double theta = p.angleDeg * kPi / 180.0;
-        const glm::dvec3 outward = std::cos(theta) * normal + std::sin(theta) * binormal;
-        truth.baseMm = point + spec.lumenRadiusMm * outward;
-        truth.baseNormal = -outward;
-        if (p.kind == PolypKind::Sessile) {
-            truth.centreMm = truth.baseMm;  // half the sphere stands in the lumen: a hemisphere
-        } else {
-            // The head must stop short of the centreline, so a fly-through along it stays in air.
-            if (!(p.stalkLengthMm >= 0.5) || p.stalkLengthMm + p.diameterMm > spec.lumenRadiusMm - kCentrelineClearanceMm) {
-                fail("a pedunculated polyp of " + std::to_string(p.diameterMm) + " mm on a " +
-                     std::to_string(p.stalkLengthMm) + " mm stalk would reach the centreline of a lumen " +
-                     std::to_string(2.0 * spec.lumenRadiusMm) + " mm across (stalk + diameter must be at most " +
-                     std::to_string(spec.lumenRadiusMm - kCentrelineClearanceMm) + " mm)");
-            }
-            truth.stalkLengthMm = p.stalkLengthMm;
-            truth.centreMm = truth.baseMm + (p.stalkLengthMm + truth.radiusMm) * truth.baseNormal;
-            solid.stalkStart = truth.baseMm - spec.wallThicknessMm * 0.5 * truth.baseNormal;
-            solid.stalkEnd = truth.centreMm;
-            solid.stalkRadiusMm = std::max(1.0, 0.3 * truth.radiusMm);
-        }
-        polyps.push_back(solid);
-        phantom.polyps.push_back(truth);
+        const PolypPlacement placement{p.kind, p.diameterMm, p.arcFraction * line.length(), p.angleDeg,
+                                       p.stalkLengthMm, false};
+        polyps.push_back(makePolypSolid(spec, line, {}, placement));
+        phantom.polyps.push_back(polyps.back().truth);
     }
 
     Anatomy anatomy = placeAnatomy(spec, line, extent, phantom);
-    for (const PolypTruth& polyp : phantom.polyps) {
-        for (const Collapse& c : anatomy.collapses) {
-            if (polypOverlaps(polyp, c.taperStartMm(), c.taperEndMm()))
-                fail("a polyp at " + mm(polyp.arcLengthMm) + " along the colon lies in the collapse over " +
-                     mm(c.taperStartMm()) + " .. " + mm(c.taperEndMm()) + " (there is no lumen there to see it in)");
+    const auto requireClearOfAnatomy = [&] {
+        for (const PolypTruth& polyp : phantom.polyps) {
+            for (const Collapse& c : anatomy.collapses) {
+                if (polypOverlaps(polyp, c.taperStartMm(), c.taperEndMm()))
+                    fail("a polyp at " + mm(polyp.arcLengthMm) + " along the colon lies in the collapse over " +
+                         mm(c.taperStartMm()) + " .. " + mm(c.taperEndMm()) + " (there is no lumen there to see it in)");
+            }
+            for (const FluidPoolTruth& pool : anatomy.pools) {
+                if (polypOverlaps(polyp, pool.startArcMm, pool.endArcMm))
+                    fail("a polyp at " + mm(polyp.arcLengthMm) + " along the colon lies in the fluid pool over " +
+                         mm(pool.startArcMm) + " .. " + mm(pool.endArcMm) + " (its truth assumes it stands in air)");
+            }
         }
-        for (const FluidPoolTruth& pool : anatomy.pools) {
-            if (polypOverlaps(polyp, pool.startArcMm, pool.endArcMm))
-                fail("a polyp at " + mm(polyp.arcLengthMm) + " along the colon lies in the fluid pool over " +
-                     mm(pool.startArcMm) + " .. " + mm(pool.endArcMm) + " (its truth assumes it stands in air)");
-        }
-    }
+    };
+    requireClearOfAnatomy();
 
-    // Folds: evenly spaced, turning by a third of a turn each, kept clear of the polyps and of
+    // Folds: evenly spaced, turning by a third of a turn each, kept clear of the listed polyps
+    // (none for a random layout: its folds stay where they are without polyps) and of
     // collapses (a fold in a closed lumen would only blur where it closes).
     std::vector<Fold> folds;
     int foldIndex = 0;
@@ -568,6 +445,15 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
             folds.push_back({s, foldIndex * 2.0 * kPi / 3.0});
             phantom.foldArcLengthsMm.push_back(s);
         }
+    }
+
+    if (isRandomLayout) {
+        std::vector<std::array<double, 2>> blockedArcMm;
+        for (const Collapse& c : anatomy.collapses) blockedArcMm.push_back({c.taperStartMm(), c.taperEndMm()});
+        for (const FluidPoolTruth& pool : anatomy.pools) blockedArcMm.push_back({pool.startArcMm, pool.endArcMm});
+        polyps = layOutRandomSolids(spec, line, folds, blockedArcMm);
+        for (const PolypSolid& solid : polyps) phantom.polyps.push_back(solid.truth);
+        requireClearOfAnatomy();
     }
 
     // Classify voxels slab by slab: nearest centreline point in a band around the tube, then
@@ -633,7 +519,7 @@ ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec) {
                     // The wall and fat keep their place in a collapse; only the air lumen closes.
                     const double lumenDistance = bestDistance[local] - (spec.lumenRadiusMm - fold);
                     const double openDistance = bestDistance[local] - (anatomy.airRadiusAt(bestArc[local]) - fold);
-                    const double polyp = polypDistance(polyps, p);
+                    const double polyp = polypDistance(polyps, p, bestDistance[local]);
                     const double airDistance = std::max(openDistance, -polyp);
                     // Tissue value: wall, then the fat band, then soft tissue; polyps are tissue.
                     const double e = spec.edgeWidthMm;

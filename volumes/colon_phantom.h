@@ -1,6 +1,6 @@
 /// @brief A colon-like phantom with known ground truth: a curved air-filled tube with a soft-
-/// tissue wall, haustral folds, a fat layer, and sessile and pedunculated polyps placed along
-/// its centreline, plus CT-like noise.
+/// tissue wall, haustral folds, a fat layer, and sessile, pedunculated and flat polyps placed
+/// along its centreline (listed, or laid out at random from a seed), plus CT-like noise.
 ///
 /// Geometry is analytic signed distance (not OpenVDB level sets): every voxel is classified
 /// from closed-form distances to the centreline polyline, the fold ridges and the polyp
@@ -19,12 +19,25 @@
 
 namespace volumes {
 
-enum class PolypKind { Sessile, Pedunculated };
+/// Sessile: a hemisphere on the wall. Pedunculated: a sphere (the head) on a stalk. Flat (Paris
+/// 0-IIa-like): a spherical cap of base diameter D rising h = min(2.5 mm, D / 4) above the wall.
+enum class PolypKind { Sessile, Pedunculated, Flat };
+
+/// "sessile", "pedunculated" or "flat", as the ground truth and --polyp spell it.
+const char* polypKindName(PolypKind kind);
+
+/// A flat polyp of base diameter `diameterMm`: its height above the wall, min(2.5 mm, D / 4).
+double flatPolypHeightMm(double diameterMm);
+
+/// A flat polyp's sphere radius R = (D^2 / 4 + h^2) / (2 h): the cap of height h cut from it
+/// has a base of diameter D.
+double flatPolypSphereRadiusMm(double diameterMm);
 
 /// Where a polyp goes and how big it is.
 struct PolypSpec {
     PolypKind kind = PolypKind::Sessile;
-    double diameterMm = 6.0;     ///< 3..15 mm (the head's diameter for a pedunculated polyp)
+    /// 3..15 mm (the head's diameter for a pedunculated polyp, the base's for a flat one)
+    double diameterMm = 6.0;
     double arcFraction = 0.5;    ///< position along the centreline, 0 (start) .. 1 (end)
     double angleDeg = 0.0;       ///< around the centreline, from the curve's reference normal
     double stalkLengthMm = 4.0;  ///< pedunculated only: wall to the head's surface
@@ -61,8 +74,12 @@ struct ColonPhantomSpec {
     int16_t fatHu = -100;
     double edgeWidthMm = 1.0;    ///< partial-volume ramp across air/tissue surfaces
     double noiseSigmaHu = 15.0;  ///< Gaussian noise, smoothed over neighbours like CT noise
-    std::uint64_t seed = 1;
+    std::uint64_t seed = 1;  ///< the noise, and the layout of random polyps
     std::vector<PolypSpec> polyps = defaultPolyps();
+    /// 1..kMaxRandomPolyps: that many polyps laid out at random from `seed` replace `polyps`
+    /// (volumes/random_polyps.h gives the rules); the folds then stay where they are without
+    /// polyps and about a quarter of the polyps stand on a fold's ridge. 0: `polyps` as listed.
+    int randomPolypCount = 0;
 
     // Anatomy around the colon, all off by default (the default phantom is unchanged). These are
     // what colon segmentation and centreline extraction are tested against: air outside the
@@ -84,15 +101,28 @@ struct ColonPhantomSpec {
     static ColonPhantomSpec withAnatomy(ColonPhantomSpec base);
 };
 
+/// At most this many random polyps (ColonPhantomSpec::randomPolypCount). The default colon
+/// (~290 mm) holds 35 for every seed tried; with --anatomy's collapse and pool, 30 fit for most
+/// seeds, and a layout that does not fit fails naming how many did.
+inline constexpr int kMaxRandomPolyps = 30;
+
 /// Ground truth of one polyp, in volume millimetres.
 struct PolypTruth {
     PolypKind kind = PolypKind::Sessile;
-    glm::dvec3 centreMm{0.0};  ///< sphere centre (sessile: on the wall surface; the head's centre otherwise)
-    double radiusMm = 0.0;
-    glm::dvec3 baseMm{0.0};      ///< where the polyp meets the wall
-    glm::dvec3 baseNormal{0.0};  ///< unit wall normal at the base, pointing into the lumen
+    /// Sphere centre: sessile, on the wall surface; pedunculated, the head's centre; flat, R - h
+    /// below the wall surface along the base normal.
+    glm::dvec3 centreMm{0.0};
+    double radiusMm = 0.0;       ///< half the diameter (the head's, or the flat polyp's base)
+    glm::dvec3 baseMm{0.0};      ///< where the polyp meets the wall (or the fold's ridge it stands on)
+    glm::dvec3 baseNormal{0.0};  ///< unit wall (or ridge) normal at the base, pointing into the lumen
     double arcLengthMm = 0.0;    ///< along the centreline from its start
     double stalkLengthMm = 0.0;
+    bool isOnFold = false;  ///< on a haustral fold's ridge rather than the plain wall
+
+    /// The radius of the sphere the polyp's surface lies on: radiusMm, or a flat polyp's R.
+    double sphereRadiusMm() const;
+    /// How far the polyp rises above its base along the normal: r, h, or stalk + diameter.
+    double heightMm() const;
 };
 
 /// The body outline: an elliptic cylinder along z (x, y in volume millimetres).
@@ -126,15 +156,16 @@ struct ColonPhantom {
 };
 
 /// Builds the phantom. Throws VolumeError for a spec that cannot make sense (polyp sizes outside
-/// 3..15 mm, a pedunculated polyp that would not fit the lumen, a grid the tube does not fit).
+/// 3..15 mm, a pedunculated polyp that would not fit the lumen, a grid the tube does not fit,
+/// more random polyps than fit).
 ColonPhantom makeColonPhantom(const ColonPhantomSpec& spec);
 
 /// The ground truth as JSON text: grid, tissue values, centreline polyline, folds and polyps
 /// (volume millimetres; see volume.h).
 std::string colonTruthJson(const ColonPhantomSpec& spec, const ColonPhantom& phantom);
 
-/// Parses "sessile:6:0.3:45" or "pedunculated:10:0.6:200[:stalkMm]" (kind:diameterMm:
-/// arcFraction:angleDeg) into a PolypSpec; throws VolumeError naming the part that is wrong.
+/// Parses "sessile:6:0.3:45", "flat:8:0.4:120" or "pedunculated:10:0.6:200[:stalkMm]" (kind:
+/// diameterMm:arcFraction:angleDeg) into a PolypSpec; throws VolumeError naming the part that is wrong.
 PolypSpec parsePolypSpec(const std::string& text);
 
 /// Parses "POSITION[:LENGTH_MM]" (e.g. "0.42:12") into a CollapseSpec; throws VolumeError.

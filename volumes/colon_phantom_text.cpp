@@ -33,9 +33,12 @@ std::string colonTruthJson(const ColonPhantomSpec& spec, const ColonPhantom& pha
     truth["fold"] = {{"depth_mm", spec.foldDepthMm}, {"half_width_mm", spec.foldHalfWidthMm}};
     nlohmann::json polyps = nlohmann::json::array();
     for (const PolypTruth& p : phantom.polyps) {
-        polyps.push_back({{"kind", p.kind == PolypKind::Sessile ? "sessile" : "pedunculated"},
+        polyps.push_back({{"kind", polypKindName(p.kind)},
                           {"diameter_mm", 2.0 * p.radiusMm},
                           {"radius_mm", p.radiusMm},
+                          {"sphere_radius_mm", p.sphereRadiusMm()},
+                          {"height_mm", p.heightMm()},
+                          {"on_fold", p.isOnFold},
                           {"centre_mm", vec(p.centreMm)},
                           {"base_mm", vec(p.baseMm)},
                           {"base_normal", vec(p.baseNormal)},
@@ -43,6 +46,7 @@ std::string colonTruthJson(const ColonPhantomSpec& spec, const ColonPhantom& pha
                           {"stalk_length_mm", p.stalkLengthMm}});
     }
     truth["polyps"] = polyps;
+    if (spec.randomPolypCount > 0) truth["random_polyps"] = {{"count", spec.randomPolypCount}, {"seed", spec.seed}};
     // The phantom's descending-colon end stands for the rectal end.
     truth["centreline_start"] = "caecum";
     truth["centreline_end"] = "rectum";
@@ -151,7 +155,8 @@ FluidPoolSpec parseFluidPoolSpec(const std::string& text) {
 PolypSpec parsePolypSpec(const std::string& text) {
     auto failSpec = [&](const std::string& problem) {
         throw VolumeError("polyp '" + text + "': " + problem +
-                          " (expected KIND:DIAMETER_MM:POSITION:ANGLE_DEG[:STALK_MM], e.g. sessile:6:0.3:45)");
+                          " (expected KIND:DIAMETER_MM:POSITION:ANGLE_DEG[:STALK_MM], KIND sessile, pedunculated or "
+                          "flat, e.g. sessile:6:0.3:45)");
     };
     std::vector<std::string> parts;
     std::size_t start = 0;
@@ -167,8 +172,10 @@ PolypSpec parsePolypSpec(const std::string& text) {
         spec.kind = PolypKind::Sessile;
     } else if (parts[0] == "pedunculated") {
         spec.kind = PolypKind::Pedunculated;
+    } else if (parts[0] == "flat") {
+        spec.kind = PolypKind::Flat;
     } else {
-        failSpec("kind '" + parts[0] + "' is neither sessile nor pedunculated");
+        failSpec("kind '" + parts[0] + "' is not sessile, pedunculated or flat");
     }
     auto number = [&](const std::string& field, const char* what) {
         double value = 0.0;

@@ -19,7 +19,7 @@ struct CoverageJob {
     std::vector<CameraPose> poses;
     double mmPerMetre = 10.0;
     RenderSettings settings;  // hits are always written: coverage is measured on them
-    WarpMode warpMode = WarpMode::Chord;
+    WarpMode warpMode = WarpMode::EyeCentred;
 };
 
 struct CoverageHooks {

@@ -47,6 +47,12 @@ WallView wallView(const Display& display, WallName wall, Eye eye, const ScenePos
     view.rays.height = found->height;
     view.warp.mode = display.map == conformal::MapKind::None ? WarpMode::None : warpMode;
     view.warp.mapCentreMm = pose.positionMm;
+    if (view.warp.mode == WarpMode::EyeCentred) {
+        // The map about the eye: W_e(q) = e + |q - e| F(dir(q - e)) sends the eye's ray e + t d
+        // to the straight ray e + t F(d), which one chord marches exactly.
+        view.warp.mode = WarpMode::Chord;
+        view.warp.mapCentreMm = view.rays.eyeMm;
+    }
     view.warp.caveToVolume = rotation;
     return view;
 }

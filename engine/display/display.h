@@ -27,7 +27,7 @@ glm::dmat3 caveToVolumeRotation(const ScenePose& pose);
 
 /// The rays of `wall` seen by `eye` with the CAVE placed by `pose`, and the warp that the
 /// display's map asks for (WarpMode::None for MapKind::None; else `warpMode`), bending about
-/// the map centre.
+/// the map centre; WarpMode::EyeCentred becomes a chord bending about the eye itself.
 struct WallView {
     ViewRays rays;
     Warp warp;

@@ -302,9 +302,6 @@ private:
 
 std::string modeText(RenderMode mode) { return mode == RenderMode::Composite ? "composite" : "iso"; }
 std::string filterText(VolumeFilter filter) { return filter == VolumeFilter::Tricubic ? "tricubic" : "trilinear"; }
-std::string warpText(WarpMode warp) {
-    return warp == WarpMode::Exact ? "exact" : warp == WarpMode::Chord ? "chord" : "none";
-}
 
 }  // namespace
 
@@ -370,7 +367,7 @@ std::string sequenceManifest(const SequenceJob& job) {
     manifest["volume"] = job.volumePath.empty() ? "" : fs::absolute(job.volumePath).string();
     manifest["display"] = nlohmann::json::parse(displayJson(job.display));
     manifest["map"] = job.mapSource;
-    manifest["warp"] = warpText(job.warpMode);
+    manifest["warp"] = warpModeName(job.warpMode);
     manifest["mm_per_metre"] = job.mmPerMetre;
     manifest["before_after"] = job.isWritingBeforeAfter;
     manifest["hits"] = job.isWritingHits;

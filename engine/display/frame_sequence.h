@@ -42,7 +42,7 @@ struct SequenceJob {
     std::vector<CameraPose> poses;
     double mmPerMetre = 10.0;
     RenderSettings settings;
-    WarpMode warpMode = WarpMode::Chord;
+    WarpMode warpMode = WarpMode::EyeCentred;
     std::string mapSource;              // how the map was obtained (cache, a file): recorded in the manifest
     bool isWritingBeforeAfter = false;  // also the centre eye's walls without and with the map
     bool isWritingHits = false;         // frame_NNNN/EYE/WALL_hits.nrrd beside each wall's PNG

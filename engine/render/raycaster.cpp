@@ -44,9 +44,38 @@ std::vector<vk::DescriptorType> raycastDescriptorTypes() {
 }
 
 /// Whether a request's march starts where the tile pass says: with skipping, whose distance map
-/// the pass reads, and with straight segments (the exact warp bends every sample).
-bool usesRayStartPass(const RenderRequest& request) {
-    return request.settings.isSkipping && request.settings.isUsingRayStartPass && request.warp.mode != WarpMode::Exact;
+/// the pass reads, and with straight segments (the exact warp bends every sample); a polyline's
+/// pieces only with the chord table, where the tile's bound was measured once (ray_start.glsl).
+bool usesRayStartPass(const RenderRequest& request, bool hasChordTable) {
+    const WarpMode warp = request.warp.mode;
+    return request.settings.isSkipping && request.settings.isUsingRayStartPass && warp != WarpMode::Exact &&
+           (warp != WarpMode::Polyline || hasChordTable);
+}
+
+/// The request as it is rendered: a polyline for an eye at the map centre is one chord (its ray
+/// is not bent), so it takes the chord's smaller table and the same pixels.
+RenderRequest effectiveRequest(const RenderRequest& request) {
+    RenderRequest effective = request;
+    if (request.warp.mode == WarpMode::Polyline && glm::length(request.rays.eyeMm - request.warp.mapCentreMm) < 1e-9) {
+        effective.warp.mode = WarpMode::Chord;
+    }
+    return effective;
+}
+
+int32_t warpIdOf(WarpMode warp) {
+    switch (warp) {
+        case WarpMode::None: return CVC_WARP_NONE;
+        case WarpMode::Chord: return CVC_WARP_CHORD;
+        case WarpMode::Polyline: return CVC_WARP_POLYLINE;
+        case WarpMode::Exact: return CVC_WARP_EXACT;
+        case WarpMode::EyeCentred: break;  // the display code makes it a chord (validateRequest)
+    }
+    throw std::invalid_argument("unknown warp mode");
+}
+
+/// Bytes of a chord (or polyline) table per tile of the image.
+vk::DeviceSize tableBytesPerTile(WarpMode warp) {
+    return warp == WarpMode::Polyline ? CVC_POLYLINE_TABLE_BYTES_PER_TILE : CVC_CHORD_TABLE_BYTES_PER_TILE;
 }
 
 uint32_t tilesAlong(int pixels) { return static_cast<uint32_t>((pixels + CVC_TILE_SIZE - 1) / CVC_TILE_SIZE); }
@@ -146,7 +175,7 @@ Raycaster::Raycaster(const GpuContext& context, const volumes::Volume& volume, c
       mNoGradientVolume(makeEmptyGradientVolume(context)),
       mNoHitImage(context, vk::Extent3D(1, 1, 1), vk::Format::eR32G32B32A32Sfloat, vk::ImageUsageFlagBits::eStorage,
                   "unused hit position image"),
-      mNoChordTable(context, CVC_CHORD_TABLE_BYTES_PER_TILE, vk::BufferUsageFlagBits::eStorageBuffer,
+      mNoChordTable(context, CVC_POLYLINE_TABLE_BYTES_PER_TILE, vk::BufferUsageFlagBits::eStorageBuffer,
                     GpuBuffer::Memory::DeviceLocal, "unused chord table"),
       mNoRayStarts(context, 16, vk::BufferUsageFlagBits::eStorageBuffer, GpuBuffer::Memory::DeviceLocal,
                    "unused ray-start table") {
@@ -189,7 +218,7 @@ int32_t hitOutputOf(const RenderSettings& settings) {
 ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode warp, int chordTable, int rayStart) {
     const int32_t mode = settings.mode == RenderMode::Composite ? CVC_MODE_COMPOSITE : CVC_MODE_ISO;
     const int32_t filter = settings.filter == VolumeFilter::Tricubic ? CVC_FILTER_TRICUBIC : CVC_FILTER_TRILINEAR;
-    const int32_t warpId = warp == WarpMode::Exact ? CVC_WARP_EXACT : warp == WarpMode::Chord ? CVC_WARP_CHORD : CVC_WARP_NONE;
+    const int32_t warpId = warpIdOf(warp);
     const int32_t gradient = settings.gradient == GradientFilter::BSpline ? CVC_GRADIENT_BSPLINE : CVC_GRADIENT_CENTRAL;
     // Only iso mode refines hits: composite pipelines share one value.
     const int32_t refinement = mode == CVC_MODE_ISO ? settings.refinementSteps : 0;
@@ -312,6 +341,9 @@ void Raycaster::validateRequest(const RenderRequest& request) const {
                                     " is outside 1.." + std::to_string(kMaxImageSide));
     }
     (void)wallNormalOf(rays);  // throws for a degenerate image plane
+    if (request.warp.mode == WarpMode::EyeCentred) {
+        throw std::logic_error("an eye-centred warp is a chord about the eye: wallView makes it one");
+    }
     if (request.warp.mode != WarpMode::None && !mHasCubeMap) {
         throw std::logic_error("a warped render needs setCubeMap first");
     }
@@ -327,8 +359,11 @@ RenderedImage Raycaster::render(const ViewRays& rays, const RenderSettings& sett
     return std::move(collect(batch).front());
 }
 
-RenderBatch Raycaster::submit(std::span<const RenderRequest> requests) {
-    for (const auto& request : requests) validateRequest(request);
+RenderBatch Raycaster::submit(std::span<const RenderRequest> asked) {
+    for (const auto& request : asked) validateRequest(request);
+    std::vector<RenderRequest> requests;
+    requests.reserve(asked.size());
+    for (const auto& request : asked) requests.push_back(effectiveRequest(request));
     const auto busy = static_cast<std::size_t>(std::count(mIsSlotBusy.begin(), mIsSlotBusy.end(), true));
     if (busy + requests.size() > static_cast<std::size_t>(kMaxImagesInFlight)) {
         throw std::logic_error("more than " + std::to_string(kMaxImagesInFlight) +
@@ -356,11 +391,12 @@ RenderBatch Raycaster::submit(std::span<const RenderRequest> requests) {
         skipDistanceFor(settings);
         chordTables.push_back(chordTableFor(requests[i], batch.mSlots[i]));
         const int chordTable = chordTables.back().table ? CVC_CHORD_TABLE_READ : CVC_CHORD_TABLE_NONE;
-        const bool isStartPass = usesRayStartPass(requests[i]);
-        pipelineFor(settings, requests[i].warp.mode, chordTable, isStartPass ? CVC_RAY_START_READ : CVC_RAY_START_NONE);
+        const bool isStartPass = usesRayStartPass(requests[i], chordTables.back().table != nullptr);
+        const WarpMode warp = requests[i].warp.mode;
+        pipelineFor(settings, warp, chordTable, isStartPass ? CVC_RAY_START_READ : CVC_RAY_START_NONE);
         if (chordTables.back().isFilling) {
-            pipelineFor(rayPassSettings(), WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
-            rayStartFillPipelineFor(WarpMode::Chord, CVC_CHORD_TABLE_FILL);
+            pipelineFor(rayPassSettings(), warp, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
+            rayStartFillPipelineFor(warp, CVC_CHORD_TABLE_FILL);
         }
         if (isStartPass) rayStartFillPipelineFor(requests[i].warp.mode, chordTable);
     }
@@ -401,7 +437,8 @@ std::vector<RenderedImage> Raycaster::collect(RenderBatch& batch) {
 
 Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, int slotIndex) {
     const Warp& warp = request.warp;
-    if (warp.mode != WarpMode::Chord || !request.settings.isUsingChordTable) return {};
+    const bool isTabled = warp.mode == WarpMode::Chord || warp.mode == WarpMode::Polyline;
+    if (!isTabled || !request.settings.isUsingChordTable) return {};
     // With the map centre outside the volume the chord's reach changes with the pose, so no
     // two frames would share a table: such rays fetch per ray (the same for every run).
     const auto [boxMin, boxMax] = volumeBoxMm();
@@ -413,7 +450,7 @@ Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, 
     // Quantised to a nanometre, far below what moves a texel, far above double's rounding.
     const ViewRays& rays = request.rays;
     const glm::dmat3 toCave = glm::transpose(warp.caveToVolume);
-    std::vector<long long> key;
+    std::vector<long long> key{static_cast<long long>(warp.mode)};
     auto add = [&key](double value) { key.push_back(std::llround(value * 1e6)); };
     auto addVector = [&add](const glm::dvec3& v) {
         for (int axis = 0; axis < 3; ++axis) add(v[axis]);
@@ -431,8 +468,8 @@ Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, 
     // which frame came first, and a resumed run or another rank writes the same images.
     ChordTableUse use;
     use.canonical.settings = request.settings;
-    use.canonical.warp.mode = WarpMode::Chord;
-    auto value = [&key](std::size_t index) { return static_cast<double>(key[index]) * 1e-6; };
+    use.canonical.warp.mode = warp.mode;
+    auto value = [&key](std::size_t index) { return static_cast<double>(key[index + 1]) * 1e-6; };
     auto vectorAt = [&value](std::size_t index) { return glm::dvec3(value(index), value(index + 1), value(index + 2)); };
     use.canonical.rays.eyeMm = vectorAt(0);
     use.canonical.rays.wallOriginMm = vectorAt(3);
@@ -449,7 +486,7 @@ Raycaster::ChordTableUse Raycaster::chordTableFor(const RenderRequest& request, 
     }
     // The table is laid out tile by tile (raycast.comp), whole tiles at the image's edges too.
     const vk::DeviceSize tiles = vk::DeviceSize{tilesAlong(rays.width)} * tilesAlong(rays.height);
-    const vk::DeviceSize bytes = tiles * CVC_CHORD_TABLE_BYTES_PER_TILE;
+    const vk::DeviceSize bytes = tiles * tableBytesPerTile(warp.mode);
     use.isFilling = true;
     if (mChordTableBytes + bytes > mChordTableBudgetBytes) {
         // Past the budget the table is filled for this frame alone, in the image's slot, so the
@@ -594,7 +631,7 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     const SampledTexture& skipDistance = skipDistanceFor(settings);
     const GpuBuffer& chordTexels = chordTable.table ? *chordTable.table : mNoChordTable;
     const int chordTableUse = chordTable.table ? CVC_CHORD_TABLE_READ : CVC_CHORD_TABLE_NONE;
-    const bool isStartPass = usesRayStartPass(request);
+    const bool isStartPass = usesRayStartPass(request, chordTable.table != nullptr);
     const vk::DeviceSize tileCount = vk::DeviceSize{tilesAlong(rays.width)} * tilesAlong(rays.height);
     // Per tile: where its rays start, and whether their march looks at the distance map.
     const vk::DeviceSize rayStartBytes = tileCount * 2 * sizeof(float);
@@ -634,13 +671,12 @@ void Raycaster::recordRequest(const vk::raii::CommandBuffer& commands, const Ren
     slot.timer.recordStart(commands);  // a table's fill and the tile pass count in the frame
     if (chordTable.isFilling) {
         // The chords, then each tile's cone bound from them.
-        ComputePipeline& fill =
-            pipelineFor(rayPassSettings(), WarpMode::Chord, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
+        ComputePipeline& fill = pipelineFor(rayPassSettings(), warp.mode, CVC_CHORD_TABLE_FILL, CVC_RAY_START_NONE);
         bindResources(fill, set, slot.fillUniforms, targets.color, hitImage, skipDistance, transfer, mNoGradientVolume,
                       chordTexels, mNoRayStarts);
         fill.recordDispatch(commands, imageGroups, {}, set);
         recordShaderWriteBarrier();
-        ComputePipeline& bounds = rayStartFillPipelineFor(WarpMode::Chord, CVC_CHORD_TABLE_FILL);
+        ComputePipeline& bounds = rayStartFillPipelineFor(warp.mode, CVC_CHORD_TABLE_FILL);
         bindResources(bounds, set, slot.fillUniforms, targets.color, hitImage, skipDistance, transfer,
                       mNoGradientVolume, chordTexels, mNoRayStarts);
         bounds.recordDispatch(commands, tileGroups, {}, set);

@@ -89,11 +89,13 @@ public:
     /// Images that may be in flight at once: two stereo frames of a six-wall display with their
     /// before/after walls.
     static constexpr int kMaxImagesInFlight = 48;
-    /// Chord tables held now (one per display geometry the chord warp has rendered).
+    /// Chord and polyline tables held now (one per display geometry and warp rendered).
     [[nodiscard]] std::size_t chordTableCount() const { return mChordTables.size(); }
-    /// Memory the kept chord tables may take, by default 1 GiB (32 bytes a pixel and 16 a tile:
-    /// the 5-wall cabin's stereo walls at full size take 453 MB). A geometry past it gets its
-    /// table filled anew for each frame: the same images, at the per-ray fetches' cost.
+    /// Memory the kept tables may take, by default 1.5 GiB (the chord's 32 bytes a pixel, the
+    /// polyline's 64, and 16 a tile: the 5-wall cabin's stereo walls at full size take 453 MB of
+    /// chords, 906 MB of polylines, the centre eye's chords for --before-after 227 MB more). A
+    /// geometry past it gets its table filled anew for each frame: the same images, at the cost
+    /// of the fill.
     void setChordTableBudget(std::uint64_t bytes);
 
 private:
@@ -168,7 +170,7 @@ private:
     // when the cube map changes; past the byte budget, a frame fills its slot's own table.
     std::map<std::vector<long long>, std::unique_ptr<GpuBuffer>> mChordTables;
     vk::DeviceSize mChordTableBytes = 0;
-    std::uint64_t mChordTableBudgetBytes = std::uint64_t{1} << 30;
+    std::uint64_t mChordTableBudgetBytes = std::uint64_t{3} << 29;
     GpuBuffer mNoChordTable;  // bound where no table is read or written
     GpuBuffer mNoRayStarts;   // bound where the tile pass does not run
 };

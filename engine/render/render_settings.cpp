@@ -24,6 +24,26 @@ void validateRenderSettings(const RenderSettings& s) {
             "roughness in (0, 1], Fresnel and ambient in [0, 1]");
 }
 
+std::string warpModeName(WarpMode mode) {
+    switch (mode) {
+        case WarpMode::None: return "none";
+        case WarpMode::Chord: return "chord";
+        case WarpMode::Polyline: return "polyline";
+        case WarpMode::Exact: return "exact";
+        case WarpMode::EyeCentred: return "eye-centred";
+    }
+    throw std::invalid_argument("unknown warp mode");
+}
+
+WarpMode warpModeFromName(const std::string& name) {
+    for (WarpMode mode : {WarpMode::None, WarpMode::Chord, WarpMode::Polyline, WarpMode::Exact, WarpMode::EyeCentred}) {
+        if (warpModeName(mode) == name) return mode;
+    }
+    throw std::invalid_argument("warp '" + name + "' is not one of none, chord, polyline, exact, eye-centred");
+}
+
+std::vector<std::string> bendingWarpModeNames() { return {"eye-centred", "polyline", "chord", "exact"}; }
+
 FetchCounts fetchCountsOf(const RenderedImage& counted) {
     FetchCounts counts;
     for (std::size_t i = 3; i < counted.hitMm.size(); i += 4) {

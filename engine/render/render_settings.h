@@ -21,10 +21,25 @@ enum class VolumeFilter { Trilinear, Tricubic };
 /// only where a sample is shaded; smooth across voxel planes, as the tricubic filter's). The
 /// tricubic filter always uses the B-spline's.
 enum class GradientFilter { Central, BSpline };
-/// How rays are bent: not at all; by mapping a ray's near and far points and marching the
-/// chord between them (paper Eq. 7, exact for an eye at the map centre); or by mapping every
-/// sample (the reference the chord is measured against for stereo eyes).
-enum class WarpMode { None, Chord, Exact };
+/// How rays are bent. The warp of space W about the map centre (DESIGN.md, "Rays"): not at all;
+/// by mapping a ray's near and far points and marching the chord between them (paper Eq. 7, exact
+/// for an eye at the map centre); by mapping up to five points of the ray and marching the
+/// polyline through them (shaders/polyline_warp.glsl: a stereo eye's bent ray within a fraction
+/// of a pixel where the chord strays by pixels; for an eye at the map centre the chord itself);
+/// or by mapping every sample (the reference both are measured against). Or the map about each
+/// eye (EyeCentred, the display default): every eye's ray along F of its own display direction,
+/// a straight ray, so each eye sees an exactly conformal image of what it would see unbent, where
+/// W's stereo eyes see its space stretched in depth against its squeezed width from a little to
+/// the side (docs/polyps.md, "Stereo eyes"). The display code turns it into a chord about the eye
+/// (wallView); a Warp handed to the ray caster is never EyeCentred.
+enum class WarpMode { None, Chord, Polyline, Exact, EyeCentred };
+
+/// "none", "chord", "polyline", "exact", "eye-centred"; and back (throws std::invalid_argument
+/// listing them).
+std::string warpModeName(WarpMode mode);
+WarpMode warpModeFromName(const std::string& name);
+/// The names a display's --warp option takes (every mode but none).
+std::vector<std::string> bendingWarpModeNames();
 
 struct RenderSettings {
     RenderMode mode = RenderMode::IsoSurface;

@@ -134,7 +134,7 @@ TEST(ColonPhantom, RefusesImpossibleSpecs) {
     EXPECT_THROW(makeColonPhantom(spec), VolumeError);
     spec.polyps = {{PolypKind::Sessile, 20.0, 0.5, 0.0, 0.0}};
     EXPECT_THROW(makeColonPhantom(spec), VolumeError);
-    for (const char* bad : {"", "flat:6:0.5:0", "sessile:6:0.5", "sessile:2:0.5:0", "sessile:6:1.5:0",
+    for (const char* bad : {"", "cone:6:0.5:0", "sessile:6:0.5", "sessile:2:0.5:0", "sessile:6:1.5:0",
                             "sessile:x:0.5:0", "pedunculated:8:0.5:0:4:9"}) {
         EXPECT_THROW(parsePolypSpec(bad), VolumeError) << bad;
     }
