@@ -18,67 +18,43 @@
 #include "conformal/cube_map_baker.h"
 #include "engine/display/display.h"
 #include "engine/render/raycaster.h"
-#include "engine/render/volume_texture.h"
+#include "tests/support/ball_room.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "tests/support/image_compare.h"
 #include "volumes/analytic_phantom.h"
-#include "volumes/brick_minmax.h"
 
 namespace {
 
 using engine::Eye;
 using engine::WarpMode;
+using testing_support::BallRoom;
+using testing_support::ballRoomSettings;
 using testing_support::colorDifference;
+using testing_support::fiveWallCube;
+using testing_support::percentile;
 
 /// A small spherical room, 20 mm in radius: seen from near its centre by eyes 0.65 mm to either
 /// side (a 0.065 m eye separation at 20 mm per metre), its wall lies 15 to 40 times the eye's
 /// offset away, where the stereo eyes' rays are bent most unlike a chord.
-struct SmallRoom {
-    explicit SmallRoom(const engine::GpuContext& context)
-        : volume(makeVolume()), bricks(volumes::buildBrickMinMax(volume)), texture(context, volume),
-          raycaster(context, volume, texture, bricks) {}
-
-    static volumes::BallSpec spec() {
-        volumes::BallSpec room;
-        room.grid.dims = {128, 128, 128};
-        room.grid.spacingMm = glm::dvec3(0.4);
-        room.centreMm = glm::dvec3(25.4);
-        room.radiusMm = 20.0;
-        room.edgeWidthMm = 0.8;
-        room.insideHu = -1000;
-        room.outsideHu = 40;
-        return room;
-    }
-    static volumes::Volume makeVolume() { return volumes::makeBallPhantom(spec()); }
-
-    volumes::Volume volume;
-    volumes::BrickMinMax bricks;
-    engine::VolumeTexture texture;
-    engine::Raycaster raycaster;
-};
-
-engine::Display fiveWallCube(int pixels) {
-    engine::Display display = engine::displayPreset("cave6");
-    display.walls.pop_back();  // no ceiling
-    for (auto& wall : display.walls) wall.width = wall.height = pixels;
-    display.map = conformal::MapKind::Conformal;
-    return display;
+volumes::BallSpec smallRoom() {
+    volumes::BallSpec room;
+    room.grid.dims = {128, 128, 128};
+    room.grid.spacingMm = glm::dvec3(0.4);
+    room.centreMm = glm::dvec3(25.4);
+    room.radiusMm = 20.0;
+    room.edgeWidthMm = 0.8;
+    room.insideHu = -1000;
+    room.outsideHu = 40;
+    return room;
 }
 
 engine::ScenePose roomPose() {
     engine::ScenePose pose;
-    pose.positionMm = SmallRoom::spec().centreMm + glm::dvec3(1.5, -1.0, 0.5);
+    pose.positionMm = smallRoom().centreMm + glm::dvec3(1.5, -1.0, 0.5);
     pose.forward = glm::normalize(glm::dvec3(0.2, -0.1, 1.0));  // not axis-aligned on purpose
     pose.up = {0.0, 1.0, 0.0};
     pose.mmPerMetre = 20.0;
     return pose;
-}
-
-engine::RenderSettings roomSettings() {
-    engine::RenderSettings settings;
-    settings.isoHu = -480.0;
-    settings.stepVoxels = 0.5;
-    return settings;
 }
 
 /// Per pixel hit by both images, the distance between the two hits as an angle seen from the eye
@@ -99,12 +75,6 @@ double mean(const std::vector<double>& values) {
     double sum = 0.0;
     for (double v : values) sum += v;
     return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
-}
-
-double percentile(std::vector<double> values, double fraction) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    return values[static_cast<std::size_t>(fraction * static_cast<double>(values.size() - 1))];
 }
 
 class PolylineWarp : public testing_support::GpuTest {
@@ -138,7 +108,7 @@ std::vector<double> pixelDifferences(const engine::RenderedImage& a, const engin
 // line (polyline_warp.glsl); at the cabin's scale of 10 mm per metre that is 5 to 13 mm from the
 // eye, nearer than a colon's wall usually is.
 TEST_F(PolylineWarp, FollowsTheExactWarpForBothEyesWhereTheChordDoesNot) {
-    SmallRoom room(context());
+    BallRoom room(context(), smallRoom());
     room.raycaster.setCubeMap(sMap->size, sMap->rgba);
     const engine::Display display = fiveWallCube(96);
     const engine::ScenePose pose = roomPose();
@@ -148,9 +118,9 @@ TEST_F(PolylineWarp, FollowsTheExactWarpForBothEyesWhereTheChordDoesNot) {
             const auto exact = engine::wallView(display, wall.name, eye, pose, WarpMode::Exact);
             const auto polyline = engine::wallView(display, wall.name, eye, pose, WarpMode::Polyline);
             const auto chord = engine::wallView(display, wall.name, eye, pose, WarpMode::Chord);
-            const auto exactImage = room.raycaster.render(exact.rays, roomSettings(), exact.warp);
-            const auto polylineImage = room.raycaster.render(polyline.rays, roomSettings(), polyline.warp);
-            const auto chordImage = room.raycaster.render(chord.rays, roomSettings(), chord.warp);
+            const auto exactImage = room.raycaster.render(exact.rays, ballRoomSettings(), exact.warp);
+            const auto polylineImage = room.raycaster.render(polyline.rays, ballRoomSettings(), polyline.warp);
+            const auto chordImage = room.raycaster.render(chord.rays, ballRoomSettings(), chord.warp);
             const std::vector<double> toPolyline = hitDistancesDeg(polylineImage, exactImage, exact.rays);
             const std::vector<double> toChord = hitDistancesDeg(chordImage, exactImage, exact.rays);
             // The room's wall fills every wall of the display.
@@ -182,7 +152,7 @@ TEST_F(PolylineWarp, FollowsTheExactWarpForBothEyesWhereTheChordDoesNot) {
 // the same cube map; and the two eyes' hits differ where the warp of space about the centre
 // would make them agree with the centre eye's bent rays.
 TEST_F(PolylineWarp, EyeCentredRaysRunFromEachEyeAlongTheMap) {
-    SmallRoom room(context());
+    BallRoom room(context(), smallRoom());
     room.raycaster.setCubeMap(sMap->size, sMap->rgba);
     const engine::Display display = fiveWallCube(64);
     const engine::ScenePose pose = roomPose();
@@ -194,7 +164,7 @@ TEST_F(PolylineWarp, EyeCentredRaysRunFromEachEyeAlongTheMap) {
             const auto view = engine::wallView(display, wall.name, eye, pose, WarpMode::EyeCentred);
             ASSERT_EQ(view.warp.mode, WarpMode::Chord);  // a chord about the eye
             ASSERT_LT(glm::length(view.warp.mapCentreMm - view.rays.eyeMm), 1e-12);
-            const auto image = room.raycaster.render(view.rays, roomSettings(), view.warp);
+            const auto image = room.raycaster.render(view.rays, ballRoomSettings(), view.warp);
             for (int y = 0; y < image.height; ++y) {
                 for (int x = 0; x < image.width; ++x) {
                     const std::size_t i = 4 * (static_cast<std::size_t>(y) * image.width + x);
@@ -214,10 +184,10 @@ TEST_F(PolylineWarp, EyeCentredRaysRunFromEachEyeAlongTheMap) {
     // The centre eye's rays are the chord's about the map centre, pixel for pixel.
     const auto centred = engine::wallView(display, engine::WallName::Front, Eye::Centre, pose, WarpMode::EyeCentred);
     const auto chord = engine::wallView(display, engine::WallName::Front, Eye::Centre, pose, WarpMode::Chord);
-    EXPECT_EQ(room.raycaster.render(centred.rays, roomSettings(), centred.warp).rgba,
-              room.raycaster.render(chord.rays, roomSettings(), chord.warp).rgba);
+    EXPECT_EQ(room.raycaster.render(centred.rays, ballRoomSettings(), centred.warp).rgba,
+              room.raycaster.render(chord.rays, ballRoomSettings(), chord.warp).rgba);
     // The ray caster itself never takes the display-level mode.
-    EXPECT_THROW(room.raycaster.render(centred.rays, roomSettings(), engine::Warp{WarpMode::EyeCentred, pose.positionMm,
+    EXPECT_THROW(room.raycaster.render(centred.rays, ballRoomSettings(), engine::Warp{WarpMode::EyeCentred, pose.positionMm,
                                                                                      toVolume}),
                  std::logic_error);
 }
@@ -226,7 +196,7 @@ TEST_F(PolylineWarp, EyeCentredRaysRunFromEachEyeAlongTheMap) {
 // caster renders it as one), and an eye a hair from the centre, which takes the polyline's own
 // code, keeps one piece and the chord's image.
 TEST_F(PolylineWarp, IsTheChordForTheCentreEye) {
-    SmallRoom room(context());
+    BallRoom room(context(), smallRoom());
     room.raycaster.setCubeMap(sMap->size, sMap->rgba);
     const engine::Display display = fiveWallCube(64);
     engine::Display nudged = display;
@@ -235,12 +205,12 @@ TEST_F(PolylineWarp, IsTheChordForTheCentreEye) {
     for (const auto& wall : display.walls) {
         const auto chord = engine::wallView(display, wall.name, Eye::Centre, pose, WarpMode::Chord);
         const auto polyline = engine::wallView(display, wall.name, Eye::Centre, pose, WarpMode::Polyline);
-        const auto chordImage = room.raycaster.render(chord.rays, roomSettings(), chord.warp);
-        const auto polylineImage = room.raycaster.render(polyline.rays, roomSettings(), polyline.warp);
+        const auto chordImage = room.raycaster.render(chord.rays, ballRoomSettings(), chord.warp);
+        const auto polylineImage = room.raycaster.render(polyline.rays, ballRoomSettings(), polyline.warp);
         EXPECT_EQ(polylineImage.rgba, chordImage.rgba) << engine::wallNameText(wall.name);
         EXPECT_EQ(polylineImage.hitMm, chordImage.hitMm) << engine::wallNameText(wall.name);
         const auto off = engine::wallView(nudged, wall.name, Eye::Centre, pose, WarpMode::Polyline);
-        const auto offImage = room.raycaster.render(off.rays, roomSettings(), off.warp);
+        const auto offImage = room.raycaster.render(off.rays, ballRoomSettings(), off.warp);
         const auto [worst, mean] = colorDifference(offImage, chordImage);
         EXPECT_LE(worst, 1) << engine::wallNameText(wall.name);
         EXPECT_LT(percentile(hitDistancesDeg(offImage, chordImage, chord.rays), 1.0), 1e-3)
@@ -253,16 +223,16 @@ TEST_F(PolylineWarp, IsTheChordForTheCentreEye) {
 // The table is filled once per wall and eye and read on every later pose: the same image as the
 // polylines made per ray, but for float rounding, and whichever pose filled it.
 TEST_F(PolylineWarp, TableGivesThePerRayImageOnEveryPose) {
-    SmallRoom room(context());
+    BallRoom room(context(), smallRoom());
     room.raycaster.setCubeMap(sMap->size, sMap->rgba);
     const engine::Display display = fiveWallCube(72);
-    engine::RenderSettings perRay = roomSettings();
+    engine::RenderSettings perRay = ballRoomSettings();
     perRay.isUsingChordTable = false;
     engine::ScenePose pose = roomPose();
     for (int frame = 0; frame < 2; ++frame) {
         for (Eye eye : {Eye::Left, Eye::Right}) {
             const auto view = engine::wallView(display, engine::WallName::Front, eye, pose, WarpMode::Polyline);
-            const auto read = room.raycaster.render(view.rays, roomSettings(), view.warp);
+            const auto read = room.raycaster.render(view.rays, ballRoomSettings(), view.warp);
             const auto made = room.raycaster.render(view.rays, perRay, view.warp);
             const std::string what = "frame " + std::to_string(frame) + " " + engine::eyeText(eye);
             const auto [worst, mean] = colorDifference(read, made);
@@ -281,11 +251,11 @@ TEST_F(PolylineWarp, TableGivesThePerRayImageOnEveryPose) {
 // samples on the same grid): the images agree but for float rounding of where a skip lands.
 // The room is mostly empty, so both skip far; the fetches show that they do.
 TEST_F(PolylineWarp, SkippingLeavesTheImageAsItIs) {
-    SmallRoom room(context());
+    BallRoom room(context(), smallRoom());
     room.raycaster.setCubeMap(sMap->size, sMap->rgba);
     const engine::Display display = fiveWallCube(80);
     const engine::ScenePose pose = roomPose();
-    engine::RenderSettings tilePass = roomSettings();
+    engine::RenderSettings tilePass = ballRoomSettings();
     tilePass.isCountingFetches = true;
     engine::RenderSettings looksOnly = tilePass;
     looksOnly.isUsingRayStartPass = false;

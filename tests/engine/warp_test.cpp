@@ -13,48 +13,31 @@
 #include "conformal/cube_map_baker.h"
 #include "engine/display/display.h"
 #include "engine/render/raycaster.h"
-#include "engine/render/volume_texture.h"
+#include "tests/support/ball_room.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "tests/support/image_compare.h"
 #include "volumes/analytic_phantom.h"
-#include "volumes/brick_minmax.h"
 
 namespace {
 
+using testing_support::BallRoom;
+using testing_support::ballRoomSettings;
 using testing_support::colorDifference;
+using testing_support::fiveWallCube;
+using testing_support::percentile;
 
 using engine::WallName;
 
 /// A spherical room: air inside radius 90 mm around the volume's centre, tissue outside, so
 /// every ray from the centre ends on a sphere whose hit gives its scene direction exactly.
-struct SphericalRoom {
-    SphericalRoom(const engine::GpuContext& context)
-        : volume(makeVolume()), bricks(volumes::buildBrickMinMax(volume)), texture(context, volume),
-          raycaster(context, volume, texture, bricks) {}
-
-    static volumes::BallSpec spec() {
-        volumes::BallSpec room;
-        room.grid.dims = {200, 200, 200};
-        room.centreMm = glm::dvec3(99.5);
-        room.radiusMm = 90.0;
-        room.insideHu = -1000;
-        room.outsideHu = 40;
-        return room;
-    }
-    static volumes::Volume makeVolume() { return volumes::makeBallPhantom(spec()); }
-
-    volumes::Volume volume;
-    volumes::BrickMinMax bricks;
-    engine::VolumeTexture texture;
-    engine::Raycaster raycaster;
-};
-
-engine::Display fiveWallCube(int pixels) {
-    engine::Display display = engine::displayPreset("cave6");
-    display.walls.pop_back();  // no ceiling
-    for (auto& wall : display.walls) wall.width = wall.height = pixels;
-    display.map = conformal::MapKind::Conformal;
-    return display;
+volumes::BallSpec sphericalRoom() {
+    volumes::BallSpec room;
+    room.grid.dims = {200, 200, 200};
+    room.centreMm = glm::dvec3(99.5);
+    room.radiusMm = 90.0;
+    room.insideHu = -1000;
+    room.outsideHu = 40;
+    return room;
 }
 
 engine::ScenePose poseAt(const glm::dvec3& positionMm) {
@@ -64,13 +47,6 @@ engine::ScenePose poseAt(const glm::dvec3& positionMm) {
     pose.up = {0.0, 1.0, 0.0};
     pose.mmPerMetre = 20.0;
     return pose;
-}
-
-engine::RenderSettings roomSettings() {
-    engine::RenderSettings settings;
-    settings.isoHu = -480.0;
-    settings.stepVoxels = 0.5;
-    return settings;
 }
 
 class WarpedWalls : public testing_support::GpuTest {
@@ -92,7 +68,7 @@ protected:
 
 
 TEST_F(WarpedWalls, SixWallDisplayEqualsPinholeCameras) {
-    SphericalRoom room(context());
+    BallRoom room(context(), sphericalRoom());
     engine::Display cave = engine::displayPreset("cave6");
     for (auto& wall : cave.walls) wall.width = wall.height = 96;
     cave.nearM = 0.01;
@@ -109,8 +85,8 @@ TEST_F(WarpedWalls, SixWallDisplayEqualsPinholeCameras) {
         camera.up = rotation * -rect.heightM;
         camera.verticalFovDeg = 90.0;
         camera.width = camera.height = 96;
-        const auto fromWall = room.raycaster.render(view.rays, roomSettings(), view.warp);
-        const auto fromCamera = room.raycaster.render(engine::viewRaysFrom(camera), roomSettings());
+        const auto fromWall = room.raycaster.render(view.rays, ballRoomSettings(), view.warp);
+        const auto fromCamera = room.raycaster.render(engine::viewRaysFrom(camera), ballRoomSettings());
         const auto [worst, mean] = colorDifference(fromWall, fromCamera);
         EXPECT_LE(worst, 2) << engine::wallNameText(wall.name);
         EXPECT_LT(mean, 0.02) << engine::wallNameText(wall.name);
@@ -118,15 +94,15 @@ TEST_F(WarpedWalls, SixWallDisplayEqualsPinholeCameras) {
 }
 
 TEST_F(WarpedWalls, ChordEqualsExactForTheCentreEye) {
-    SphericalRoom room(context());
+    BallRoom room(context(), sphericalRoom());
     room.raycaster.setCubeMap(sConformal->size, sConformal->rgba);
     const engine::Display display = fiveWallCube(80);
-    const auto pose = poseAt(SphericalRoom::spec().centreMm + glm::dvec3(3.0, -2.0, 1.0));
+    const auto pose = poseAt(sphericalRoom().centreMm + glm::dvec3(3.0, -2.0, 1.0));
     for (const auto& wall : display.walls) {
         const auto chord = engine::wallView(display, wall.name, engine::Eye::Centre, pose, engine::WarpMode::Chord);
         const auto exact = engine::wallView(display, wall.name, engine::Eye::Centre, pose, engine::WarpMode::Exact);
-        const auto chordImage = room.raycaster.render(chord.rays, roomSettings(), chord.warp);
-        const auto exactImage = room.raycaster.render(exact.rays, roomSettings(), exact.warp);
+        const auto chordImage = room.raycaster.render(chord.rays, ballRoomSettings(), chord.warp);
+        const auto exactImage = room.raycaster.render(exact.rays, ballRoomSettings(), exact.warp);
         const auto [worst, mean] = colorDifference(chordImage, exactImage);
         EXPECT_LE(worst, 2) << engine::wallNameText(wall.name);
         EXPECT_LT(mean, 0.05) << engine::wallNameText(wall.name);
@@ -163,13 +139,13 @@ void expectSameButRounding(const engine::RenderedImage& read, const engine::Rend
 // another rank starts elsewhere); another eye or wall is another table, and a new cube map
 // drops them all.
 TEST_F(WarpedWalls, ChordTableGivesThePerRayImageOnEveryPose) {
-    SphericalRoom room(context());
+    BallRoom room(context(), sphericalRoom());
     room.raycaster.setCubeMap(sConformal->size, sConformal->rgba);
     const engine::Display display = fiveWallCube(72);
-    engine::RenderSettings perRay = roomSettings();
+    engine::RenderSettings perRay = ballRoomSettings();
     perRay.isUsingChordTable = false;
-    const engine::RenderSettings withTable = roomSettings();
-    auto pose = poseAt(SphericalRoom::spec().centreMm + glm::dvec3(3.0, -2.0, 1.0));
+    const engine::RenderSettings withTable = ballRoomSettings();
+    auto pose = poseAt(sphericalRoom().centreMm + glm::dvec3(3.0, -2.0, 1.0));
     const auto left = engine::wallView(display, WallName::Front, engine::Eye::Left, pose, engine::WarpMode::Chord);
     const auto fetched = room.raycaster.render(left.rays, perRay, left.warp);
     EXPECT_EQ(room.raycaster.chordTableCount(), 0u);
@@ -187,7 +163,7 @@ TEST_F(WarpedWalls, ChordTableGivesThePerRayImageOnEveryPose) {
     // The pose did move the image: a table read for the first pose's rays would show it.
     EXPECT_GT(worstHitDifferenceMm(movedRead, filled), 1.0);
     // A ray caster that starts at the later pose fills the table there: the same bytes.
-    SphericalRoom fresh(context());
+    BallRoom fresh(context(), sphericalRoom());
     fresh.raycaster.setCubeMap(sConformal->size, sConformal->rgba);
     const auto movedFilled = fresh.raycaster.render(moved.rays, withTable, moved.warp);
     EXPECT_EQ(movedFilled.rgba, movedRead.rgba);
@@ -280,16 +256,11 @@ std::vector<double> distortionOf(const engine::WallView& view, const engine::Ren
     return ks;
 }
 
-double percentile(std::vector<double> values, double p) {
-    std::sort(values.begin(), values.end());
-    return values[static_cast<std::size_t>(p * static_cast<double>(values.size() - 1))];
-}
-
 TEST_F(WarpedWalls, ConformalMapKeepsAnglesLinearMapDoesNot) {
-    SphericalRoom room(context());
+    BallRoom room(context(), sphericalRoom());
     const engine::Display display = fiveWallCube(128);
-    const auto pose = poseAt(SphericalRoom::spec().centreMm);
-    engine::RenderSettings settings = roomSettings();
+    const auto pose = poseAt(sphericalRoom().centreMm);
+    engine::RenderSettings settings = ballRoomSettings();
     settings.stepVoxels = 0.25;
     for (const conformal::CubeMap* map : {sConformal.get(), sLinear.get()}) {
         room.raycaster.setCubeMap(map->size, map->rgba);
@@ -323,12 +294,12 @@ TEST_F(WarpedWalls, Cave4ThroughTheMapShowsWhatIsBehindOnItsWallsAndKeepsAngles)
     bake.size = 192;
     bake.mesh.resolution = 48;
     const conformal::CubeMap map = conformal::bakeCubeMap(bake);
-    SphericalRoom room(context());
+    BallRoom room(context(), sphericalRoom());
     room.raycaster.setCubeMap(map.size, map.rgba);
     engine::Display display = engine::displayPreset("cave4");
     for (auto& wall : display.walls) wall.width = wall.height = 96;
-    const auto pose = poseAt(SphericalRoom::spec().centreMm);
-    engine::RenderSettings settings = roomSettings();
+    const auto pose = poseAt(sphericalRoom().centreMm);
+    engine::RenderSettings settings = ballRoomSettings();
     settings.stepVoxels = 0.25;
     // Scene directions seen on the walls, from the hits about the map centre.
     double nearestBehind = 10.0;
@@ -341,7 +312,7 @@ TEST_F(WarpedWalls, Cave4ThroughTheMapShowsWhatIsBehindOnItsWallsAndKeepsAngles)
             int hits = 0;
             for (std::size_t i = 0; i < image.hitMm.size(); i += 4) {
                 const glm::dvec3 hit(image.hitMm[i], image.hitMm[i + 1], image.hitMm[i + 2]);
-                if (!(std::isfinite(hit.x) && glm::length(hit - SphericalRoom::spec().centreMm) > 80.0)) continue;
+                if (!(std::isfinite(hit.x) && glm::length(hit - sphericalRoom().centreMm) > 80.0)) continue;
                 ++hits;
                 const glm::dvec3 scene = glm::normalize(hit - view.warp.mapCentreMm);
                 nearestBehind = std::min(nearestBehind, std::acos(std::clamp(glm::dot(scene, -pose.forward), -1.0, 1.0)));
