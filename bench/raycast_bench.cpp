@@ -134,34 +134,16 @@ int main(int argc, char** argv) {
     bench::WarpBenchRequest warp;
     CLI::App* warpCommand = program.add_subcommand(
         "warp", "Device time of a stereo display frame through its map, an identity cube map and no warp");
-    warpCommand->add_option("volume", warp.volumePath, "Volume file")->required();
-    warpCommand->add_option("--display", warp.display, "Display preset or JSON")->capture_default_str();
-    warpCommand->add_option("--path", warp.pathFile, "Path with ground truth (e.g. a phantom's JSON)")->required();
-    warpCommand->add_option("--polyp", warp.polyp, "The polyp whose viewing pose is rendered")->capture_default_str();
-    warpCommand->add_option("--polyp-elevation", warp.polypElevationDeg, "Its elevation in degrees")
-        ->capture_default_str();
+    bench::addDisplayFrameOptions(warpCommand, warp.frame);
     warpCommand->add_option("--scale", warp.mmPerMetre, "Scene millimetres per CAVE metre")->capture_default_str();
-    warpCommand->add_option("--map-size", warp.mapSize, "Cube-map texels per face edge")->capture_default_str();
-    warpCommand->add_option("--runs", warp.runs, "Repetitions of each mode (medians are reported)")
-        ->capture_default_str();
-    warpCommand->add_option("--device", warp.device, "Vulkan device");
     warpCommand->callback([&] { bench::runWarpBench(warp); });
     bench::StereoBenchRequest stereo;
     CLI::App* stereoCommand = program.add_subcommand(
-        "stereo", "A stereo display frame with each warp (chord, polyline, exact): device time and difference to exact");
-    stereoCommand->add_option("volume", stereo.volumePath, "Volume file")->required();
-    stereoCommand->add_option("--display", stereo.display, "Display preset or JSON")->capture_default_str();
-    stereoCommand->add_option("--path", stereo.pathFile, "Path with ground truth (e.g. a phantom's JSON)")->required();
-    stereoCommand->add_option("--polyp", stereo.polyp, "The polyp whose viewing pose is rendered")->capture_default_str();
-    stereoCommand->add_option("--polyp-elevation", stereo.polypElevationDeg, "Its elevation in degrees")
-        ->capture_default_str();
+        "stereo", "A stereo display frame with each warp (chord, eye-centred, polyline, exact): device time and difference to exact");
+    bench::addDisplayFrameOptions(stereoCommand, stereo.frame);
     stereoCommand->add_option("--scale", stereo.mmPerMetre, "Scene millimetres per CAVE metre, one or more")
         ->delimiter(',')
         ->capture_default_str();
-    stereoCommand->add_option("--map-size", stereo.mapSize, "Cube-map texels per face edge")->capture_default_str();
-    stereoCommand->add_option("--runs", stereo.runs, "Repetitions of each mode (medians are reported)")
-        ->capture_default_str();
-    stereoCommand->add_option("--device", stereo.device, "Vulkan device");
     stereoCommand->callback([&] { bench::runStereoBench(stereo); });
     bench::PolylineStudyRequest polyline;
     CLI::App* polylineCommand = program.add_subcommand(

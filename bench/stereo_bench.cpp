@@ -11,17 +11,15 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_statistics.h"
+#include "bench/display_frame_scene.h"
 #include "bench/image_difference.h"
 #include "conformal/cube_map_speed.h"
 #include "engine/core/gpu_context.h"
-#include "engine/display/camera_path.h"
-#include "engine/display/display_json.h"
 #include "engine/display/display_map.h"
 #include "engine/display/frame_sequence.h"
 #include "engine/render/raycaster.h"
 #include "engine/render/volume_texture.h"
 #include "volumes/brick_minmax.h"
-#include "volumes/load_volume.h"
 
 namespace bench {
 namespace {
@@ -48,38 +46,29 @@ double deviceMsOf(const std::vector<engine::WallImage>& walls) {
 }  // namespace
 
 void runStereoBench(const StereoBenchRequest& request) {
-    if (request.runs < 1 || request.runs > 1000) throw std::invalid_argument("--runs must be 1 to 1000");
     if (request.mmPerMetre.empty()) throw std::invalid_argument("--scale needs at least one value");
     for (double scale : request.mmPerMetre) {
         if (!(scale > 0.0 && scale <= 1000.0)) throw std::invalid_argument("--scale values must be in (0, 1000]");
     }
-    const volumes::Volume volume = volumes::loadVolume(request.volumePath);
-    const volumes::BrickMinMax bricks = volumes::buildBrickMinMax(volume);
-    const engine::Display display = engine::loadDisplay(request.display);
-    engine::PoseRequest poseRequest;
-    poseRequest.pathFile = request.pathFile;
-    poseRequest.polyp = request.polyp;
-    poseRequest.polypElevationDeg = request.polypElevationDeg;
-    const engine::CameraPose pose = engine::posesFor(poseRequest).at(0);
+    const DisplayFrameScene scene = loadDisplayFrameScene(request.frame);
+    const volumes::Volume& volume = scene.volume;
+    const volumes::BrickMinMax& bricks = scene.bricks;
+    const engine::Display& display = scene.display;
+    const engine::CameraPose& pose = scene.pose;
 
-    engine::GpuContext context(engine::GpuContextOptions{false, request.device});
+    engine::GpuContext context(engine::GpuContextOptions{false, request.frame.device});
     engine::VolumeTexture texture(context, volume);
-    const conformal::CubeMap map = engine::cubeMapFor(display, request.mapSize, "");
+    const conformal::CubeMap map = engine::cubeMapFor(display, request.frame.mapSize, "");
     const conformal::SpeedBoundMap bounds = conformal::speedBoundMap(map.size, map.rgba);
-    // cvc render --display's defaults for display frames (app/render_command.cpp).
-    engine::RenderSettings settings;
-    settings.stepVoxels = 1.0;
-    settings.lightHalfDistanceMm = 25.0;
-    settings.gradient = engine::GradientFilter::Central;
-    settings.isWritingHits = false;  // as display frames without --hits
+    const engine::RenderSettings settings = displayFrameSettings();
     const engine::Eye eyes[] = {engine::Eye::Left, engine::Eye::Right};
 
     nlohmann::json out;
-    out["display"] = request.display;
+    out["display"] = request.frame.display;
     out["map_size"] = map.size;
     out["device"] = context.driverDescription();
-    out["polyp"] = request.polyp;
-    out["polyp_elevation_deg"] = request.polypElevationDeg;
+    out["polyp"] = request.frame.polyp;
+    out["polyp_elevation_deg"] = request.frame.polypElevationDeg;
     for (double scale : request.mmPerMetre) {
         const engine::ScenePose scenePose{pose.positionMm, pose.forward, pose.up, scale};
         // A ray caster per mode: each keeps its own tables, as a render with that mode alone would
@@ -130,18 +119,18 @@ void runStereoBench(const StereoBenchRequest& request) {
             }
         }
         std::map<std::string, std::vector<double>> times;
-        for (int run = 0; run < request.runs; ++run) {
+        for (int run = 0; run < request.frame.runs; ++run) {
             for (std::size_t k = 0; k < kModes.size(); ++k) {  // each run starts with another mode
                 const StereoMode& mode = kModes[(k + static_cast<std::size_t>(run)) % kModes.size()];
                 times[mode.name].push_back(deviceMsOf(render(mode)));
-                std::cerr << "stereo: scale " << scale << ", run " << run + 1 << "/" << request.runs << ", "
+                std::cerr << "stereo: scale " << scale << ", run " << run + 1 << "/" << request.frame.runs << ", "
                           << mode.name << ": " << times[mode.name].back() << " ms\n";
             }
         }
         entry["device_ms"] = times;
         for (const StereoMode& mode : kModes) {
             std::vector<double> ratios;
-            for (int run = 0; run < request.runs; ++run) ratios.push_back(times[mode.name][run] / times["chord"][run]);
+            for (int run = 0; run < request.frame.runs; ++run) ratios.push_back(times[mode.name][run] / times["chord"][run]);
             entry["median_ms"][mode.name] = median(times[mode.name]);
             entry["median_ratio_to_chord"][mode.name] = median(ratios);
         }

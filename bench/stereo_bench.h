@@ -5,21 +5,16 @@
 /// fill) and, per eye, its difference to the exact warp's images (scripts/bench_stereo.sh).
 #pragma once
 
-#include <string>
 #include <vector>
+
+#include "bench/display_frame_scene.h"
 
 namespace bench {
 
 struct StereoBenchRequest {
-    std::string volumePath;
-    std::string display = "ic5";
-    std::string pathFile;  // a ground truth with polyps: the pose viewing `polyp`
-    int polyp = 3;
-    double polypElevationDeg = 50.0;
+    StereoBenchRequest() { frame.polyp = 3; }  // the demo's polyp, on the cabin's missing ceiling
+    DisplayFrameRequest frame;
     std::vector<double> mmPerMetre{4.0, 10.0};
-    int mapSize = 1024;
-    int runs = 5;
-    std::string device;
 };
 
 /// Prints one JSON object on stdout: per scale, per mode the device times and their medians,

@@ -12,18 +12,16 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_statistics.h"
+#include "bench/display_frame_scene.h"
 #include "bench/image_difference.h"
 #include "conformal/cube_map_baker.h"
 #include "conformal/direction_map.h"
 #include "engine/core/gpu_context.h"
-#include "engine/display/camera_path.h"
-#include "engine/display/display_json.h"
 #include "engine/display/display_map.h"
 #include "engine/display/frame_sequence.h"
 #include "engine/render/raycaster.h"
 #include "engine/render/volume_texture.h"
 #include "volumes/brick_minmax.h"
-#include "volumes/load_volume.h"
 
 namespace bench {
 namespace {
@@ -38,32 +36,23 @@ public:
 }  // namespace
 
 void runWarpBench(const WarpBenchRequest& request) {
-    if (request.runs < 1 || request.runs > 1000) throw std::invalid_argument("--runs must be 1 to 1000");
-    const volumes::Volume volume = volumes::loadVolume(request.volumePath);
-    const volumes::BrickMinMax bricks = volumes::buildBrickMinMax(volume);
-    const engine::Display display = engine::loadDisplay(request.display);
-    engine::PoseRequest poseRequest;
-    poseRequest.pathFile = request.pathFile;
-    poseRequest.polyp = request.polyp;
-    poseRequest.polypElevationDeg = request.polypElevationDeg;
-    const engine::CameraPose pose = engine::posesFor(poseRequest).at(0);
+    const DisplayFrameScene scene = loadDisplayFrameScene(request.frame);
+    const volumes::Volume& volume = scene.volume;
+    const volumes::BrickMinMax& bricks = scene.bricks;
+    const engine::Display& display = scene.display;
+    const engine::CameraPose& pose = scene.pose;
     const engine::ScenePose scenePose{pose.positionMm, pose.forward, pose.up, request.mmPerMetre};
 
-    engine::GpuContext context(engine::GpuContextOptions{false, request.device});
+    engine::GpuContext context(engine::GpuContextOptions{false, request.frame.device});
     engine::VolumeTexture texture(context, volume);
     // One ray caster per map: binding another cube map drops the chord tables made with the old.
     engine::Raycaster conformalCaster(context, volume, texture, bricks);
     engine::Raycaster identityCaster(context, volume, texture, bricks);
-    const conformal::CubeMap map = engine::cubeMapFor(display, request.mapSize, "");
+    const conformal::CubeMap map = engine::cubeMapFor(display, request.frame.mapSize, "");
     const conformal::CubeMap identity =
         conformal::bakeCubeMap(IdentityMap{}, engine::bakeSettingsFor(display, map.size).box, map.kind, map.size);
 
-    // cvc render --display's defaults for display frames (app/render_command.cpp).
-    engine::RenderSettings settings;
-    settings.stepVoxels = 1.0;
-    settings.lightHalfDistanceMm = 25.0;
-    settings.gradient = engine::GradientFilter::Central;
-    settings.isWritingHits = false;  // as display frames without --hits
+    const engine::RenderSettings settings = displayFrameSettings();
     const engine::Eye eyes[] = {engine::Eye::Left, engine::Eye::Right};
     conformalCaster.setCubeMap(map.size, map.rgba);
     identityCaster.setCubeMap(identity.size, identity.rgba);
@@ -105,22 +94,22 @@ void runWarpBench(const WarpBenchRequest& request) {
     for (std::size_t w = 0; w < identityWalls.size(); ++w) {
         identityAgainstNone.add(identityWalls[w].image, plainWalls[w].image);
     }
-    for (int run = 0; run < request.runs; ++run) {
+    for (int run = 0; run < request.frame.runs; ++run) {
         for (std::size_t k = 0; k < modes.size(); ++k) {  // each run starts with another mode
             const std::string& mode = modes[(k + static_cast<std::size_t>(run)) % modes.size()];
             times[mode].push_back(deviceMs(renderMode(mode)));
-            std::cerr << "warp: run " << run + 1 << "/" << request.runs << ", " << mode << ": " << times[mode].back()
+            std::cerr << "warp: run " << run + 1 << "/" << request.frame.runs << ", " << mode << ": " << times[mode].back()
                       << " ms\n";
         }
     }
     std::vector<double> identityRatio, perRayRatio, conformalRatio;
-    for (int run = 0; run < request.runs; ++run) {
+    for (int run = 0; run < request.frame.runs; ++run) {
         identityRatio.push_back(times["identity"][run] / times["none"][run]);
         perRayRatio.push_back(times["identity_per_ray"][run] / times["none"][run]);
         conformalRatio.push_back(times["conformal"][run] / times["none"][run]);
     }
     nlohmann::json out;
-    out["display"] = request.display;
+    out["display"] = request.frame.display;
     out["map_size"] = map.size;
     out["device"] = context.driverDescription();
     out["device_ms"] = times;

@@ -8,18 +8,13 @@
 
 #include <string>
 
+#include "bench/display_frame_scene.h"
+
 namespace bench {
 
 struct WarpBenchRequest {
-    std::string volumePath;
-    std::string display = "ic5";
-    std::string pathFile;  // with polyp: the pose viewing that polyp
-    int polyp = 0;
-    double polypElevationDeg = 50.0;
+    DisplayFrameRequest frame;
     double mmPerMetre = 10.0;
-    int mapSize = 1024;
-    int runs = 5;
-    std::string device;
 };
 
 /// Prints the device time of each run and mode, their medians, the paired ratios' medians, and
