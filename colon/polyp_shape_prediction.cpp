@@ -48,18 +48,22 @@ double invert(const SceneFromDisplay& map, const glm::dvec3& scene, glm::dvec3& 
     // A Fibonacci sphere of directions: about 1.6 degrees apart.
     constexpr int kSearch = 16000;
     double best = std::numeric_limits<double>::max();
+    // Takes `candidate` as the display direction where the map sends it nearer `scene` than the
+    // best so far; a direction the map shows nothing at is passed over.
+    const auto isTakenAsNearer = [&](const glm::dvec3& candidate) {
+        const glm::dvec3 s = mapAt(map, candidate);
+        if (s == glm::dvec3(0.0)) return false;
+        const double angle = angleBetween(s, scene);
+        if (angle >= best) return false;
+        best = angle;
+        display = candidate;
+        return true;
+    };
     for (int i = 0; i < kSearch; ++i) {
         const double z = 1.0 - (2.0 * i + 1.0) / kSearch;
         const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
         const double phi = i * kPi * (3.0 - std::sqrt(5.0));
-        const glm::dvec3 d(r * std::cos(phi), r * std::sin(phi), z);
-        const glm::dvec3 s = mapAt(map, d);
-        if (s == glm::dvec3(0.0)) continue;
-        const double angle = angleBetween(s, scene);
-        if (angle < best) {
-            best = angle;
-            display = d;
-        }
+        isTakenAsNearer(glm::dvec3(r * std::cos(phi), r * std::sin(phi), z));
     }
     if (best == std::numeric_limits<double>::max()) return best;
     for (int iteration = 0; iteration < 40 && best > 1e-10; ++iteration) {
@@ -74,15 +78,7 @@ double invert(const SceneFromDisplay& map, const glm::dvec3& scene, glm::dvec3& 
         if (glm::length(step) > 0.2) step *= 0.2 / glm::length(step);
         bool isBetter = false;
         for (int halving = 0; halving < 12 && !isBetter; ++halving, step *= 0.5) {
-            const glm::dvec3 candidate = glm::normalize(display + step.x * a + step.y * b);
-            const glm::dvec3 s = mapAt(map, candidate);
-            if (s == glm::dvec3(0.0)) continue;
-            const double angle = angleBetween(s, scene);
-            if (angle < best) {
-                best = angle;
-                display = candidate;
-                isBetter = true;
-            }
+            isBetter = isTakenAsNearer(glm::normalize(display + step.x * a + step.y * b));
         }
         if (!isBetter) break;
     }
