@@ -101,6 +101,8 @@ nlohmann::json resultEntries(const std::vector<engine::PolypViewResult>& results
                         {"elevation_deg", elevationAzimuth.x},
                         {"azimuth_deg", elevationAzimuth.y},
                         {"targeted", r.isTargeted},
+                        {"untargeted_because",
+                         r.untargetedBecause.empty() ? nlohmann::json() : nlohmann::json(r.untargetedBecause)},
                         {"angular_radius_deg", r.angularRadiusDeg},
                         {"singular_distance_deg", r.singularDistanceDeg},
                         {"missing_wall", r.missingWall.empty() ? nlohmann::json() : nlohmann::json(r.missingWall)},
@@ -160,8 +162,9 @@ nlohmann::json planJson(const engine::PolypCheckPlan& plan, const engine::PolypC
              "a pose is targetable when the conformal map's predicted aspect and circularity errors for a circle at the "
              "least angular radius (its floor) are within the predicted target; each polyp's eyes stand where it "
              "subtends the largest angular radius up to the most, in quarter degrees down to the least, from which it is "
-             "in full view and the prediction for its own outline meets the target at every targetable pose; a result "
-             "is targeted where its pose is targetable and that prediction from the polyp's place meets the target"},
+             "in full view and the predictions for its own outline and for a circle of that radius meet the target at "
+             "every targetable pose; a result is targeted where its pose is targetable, some place on its path shows "
+             "the polyp in full view, and those two predictions from the polyp's place meet the target"},
             {"least_angular_radius_deg", job.minAngularRadiusDeg},
             {"most_angular_radius_deg", job.angularRadiusDeg},
             {"predicted_target", job.predictedTarget}};
@@ -209,7 +212,9 @@ std::string markdownTable(const nlohmann::json& entries) {
     for (const auto& r : entries) {
         const std::string map = r["map"].get<std::string>();
         md << "| " << r["polyp"].get<int>() << " | " << r["diameter_mm"].get<double>() << " | "
-           << r["pose"].get<std::string>() << (r["targeted"].get<bool>() ? "" : " (no target)") << " | "
+           << r["pose"].get<std::string>()
+           << (r["targeted"].get<bool>() ? "" : " (no target: " + r["untargeted_because"].get<std::string>() + ")")
+           << " | "
            << (r["missing_wall"].is_null() ? std::string("–") : r["missing_wall"].get<std::string>()) << " | "
            << r["eye"].get<std::string>() << " | " << map << " | "
            << (r["visible"].get<bool>() ? "yes"

@@ -90,6 +90,21 @@ double worstPredicted(const PredictedErrors& errors) {
     return std::max(errors.aspectError, errors.circularityError);
 }
 
+/// Why a result is not held to the targets; empty where it is. The pose is not targetable (its
+/// floor exceeds the target); no place on the polyp's path shows it in full view; or the
+/// conformal map's prediction from the polyp's place exceeds the target: for its own outline, or
+/// for a circle of its angular radius (over the target only where the eye came closer than the
+/// plan's radius to see past a fold or a bend). The outline's prediction can be the smaller where
+/// the outline's own elongation and the map's stretch cross, but the outline a rendered polyp
+/// shows is never exactly the truth's, so the circle's bound must hold too.
+std::string untargetedBecauseOf(const PoseTarget& target, bool isInFullView, const PredictedErrors& outline,
+                                const PredictedErrors& circle, double predictedTarget) {
+    if (!target.isTargeted) return "pose";
+    if (!isInFullView) return "not in view";
+    if (worstPredicted(outline) > predictedTarget || worstPredicted(circle) > predictedTarget) return "prediction";
+    return "";
+}
+
 struct Reference {
     colon::ShapeMeasures measures;
     colon::RgbaImage crop;
@@ -164,30 +179,39 @@ bool isInFullView(Raycaster& raycaster, const PolypCheckJob& job, const colon::P
 /// Poses tried at one distance.
 constexpr int kCandidates = 12;
 
-/// The worst of the conformal map's predicted errors for `polyp`'s own outline from `base`, over
-/// the plan's targetable poses (PoseTarget::isTargeted).
-double worstOutlinePrediction(const Predictions& predictions, const PolypCheckPlan& plan, const colon::PolypSurface& polyp,
-                              const CameraPose& base) {
+/// The worst of the conformal map's predicted errors for `polyp` seen from `base`, where it
+/// subtends `radiusDeg`, over the plan's targetable poses (PoseTarget::isTargeted, the poses
+/// rendered): for its own outline and for a circle of that radius, the two a result is targeted
+/// by (untargetedBecauseOf).
+double worstPredictionFrom(Predictions& predictions, const PolypCheckPlan& plan, const colon::PolypSurface& polyp,
+                           const CameraPose& base, double radiusDeg) {
     double worst = 0.0;
     for (const PoseTarget& target : plan.poses) {
         if (!target.isTargeted) continue;
+        const PredictedErrors circle = errorsOf(predictions.at(conformal::MapKind::Conformal, target.pose, radiusDeg));
         const CameraPose pose = poseSeeing(base, colon::polypAimPointOf(polyp), target.pose.directionCave);
-        worst = std::max(worst, worstPredicted(errorsOf(predictions.ofOutline(conformal::MapKind::Conformal, polyp, pose))));
+        const PredictedErrors outline = errorsOf(predictions.ofOutline(conformal::MapKind::Conformal, polyp, pose));
+        worst = std::max({worst, worstPredicted(circle), worstPredicted(outline)});
     }
     return worst;
 }
 
-/// The eye's place for `polyp` (its angular radius set in `angularRadiusDeg`): on its path
-/// segment, the first pose within 10 % of the distance at which the polyp subtends a radius
-/// (those before the polyp, antegrade, first) that has the polyp in full view. The radius goes
+/// The eye's place for `polyp` and its angular radius there: on its path segment, the first
+/// pose within 10 % of the distance at which the polyp subtends a radius (those before the
+/// polyp, antegrade, first) that has the polyp in full view. The radius goes
 /// down from job.angularRadiusDeg in quarter degrees to job.minAngularRadiusDeg until the
-/// conformal map's prediction for the polyp's own outline from there meets the target at every
-/// targetable pose; where none does, the place in view with the least prediction. Where a fold
-/// or a bend hides the polyp at all those distances it comes closer, a degree at a time, up to
-/// plan.widestAngularRadiusDeg; failing that, the pose nearest job.angularRadiusDeg's distance.
-CameraPose eyePoseFor(Raycaster& raycaster, const PolypCheckJob& job, const PolypCheckPlan& plan,
-                      const Predictions& predictions, const colon::PolypSurface& polyp, const RenderSettings& settings,
-                      double& angularRadiusDeg) {
+/// conformal map's predictions from there (for the polyp's own outline and for a circle of that
+/// radius) meet the target at every targetable pose; where none does, the place in view with the
+/// least prediction. Where a fold or a bend hides the polyp at all those distances it comes
+/// closer, a degree at a time, up to plan.widestAngularRadiusDeg; failing that, the pose nearest
+/// job.angularRadiusDeg's distance, not in full view (its results are reported, not targeted).
+struct EyePlace {
+    CameraPose pose;
+    double angularRadiusDeg = 0.0;
+    bool isInFullView = false;
+};
+EyePlace eyePlaceFor(Raycaster& raycaster, const PolypCheckJob& job, const PolypCheckPlan& plan,
+                     Predictions& predictions, const colon::PolypSurface& polyp, const RenderSettings& settings) {
     PathSettings fine = job.path;
     fine.stepMm = 0.5;
     const glm::dvec3 aim = colon::polypAimPointOf(polyp);
@@ -217,31 +241,28 @@ CameraPose eyePoseFor(Raycaster& raycaster, const PolypCheckJob& job, const Poly
         }
         return std::nullopt;
     };
-    std::optional<CameraPose> best;
+    std::optional<EyePlace> best;
     double bestWorst = std::numeric_limits<double>::infinity();
     for (double radius = job.angularRadiusDeg; radius >= job.minAngularRadiusDeg - 1e-9; radius -= 0.25) {
         const std::optional<CameraPose> place = placeInView(radius);
         if (!place) continue;
-        const double worst = worstOutlinePrediction(predictions, plan, polyp, *place);
+        const double worst = worstPredictionFrom(predictions, plan, polyp, *place, radius);
         if (worst < bestWorst) {
-            best = place;
+            best = EyePlace{*place, radius, true};
             bestWorst = worst;
-            angularRadiusDeg = radius;
         }
-        if (worst <= job.predictedTarget) return *place;
+        if (worst <= job.predictedTarget) return *best;
     }
     if (best) return *best;
     for (double radius = job.angularRadiusDeg + 1.0; radius <= plan.widestAngularRadiusDeg + 1e-9; radius += 1.0) {
-        if (const std::optional<CameraPose> place = placeInView(radius)) {
-            angularRadiusDeg = radius;
-            return *place;
-        }
+        if (const std::optional<CameraPose> place = placeInView(radius)) return EyePlace{*place, radius, true};
     }
-    angularRadiusDeg = job.angularRadiusDeg;
-    const double wanted = 0.5 * polyp.diameterMm / std::sin(glm::radians(angularRadiusDeg));
-    return *std::min_element(poses.begin(), poses.end(), [&](const CameraPose& a, const CameraPose& b) {
+    const double wanted = 0.5 * polyp.diameterMm / std::sin(glm::radians(job.angularRadiusDeg));
+    const auto nearerToWanted = [&](const CameraPose& a, const CameraPose& b) {
         return std::abs(distanceTo(a) - wanted) < std::abs(distanceTo(b) - wanted);
-    });
+    };
+    const CameraPose nearestToWanted = *std::min_element(poses.begin(), poses.end(), nearerToWanted);
+    return EyePlace{nearestToWanted, job.angularRadiusDeg, false};
 }
 
 /// The smallest angle between the ray from the map centre along `axis` (CAVE axes) and the
@@ -331,10 +352,21 @@ double relativeError(double value, double reference) {
     return reference != 0.0 ? std::abs(value - reference) / std::abs(reference) : std::numeric_limits<double>::quiet_NaN();
 }
 
+/// The polyp's image across its narrow axis, pixels.
+double narrowAxisPixels(const colon::ShapeMeasures& view) {
+    return view.aspect > 0.0 ? view.pixelsAcross / std::sqrt(view.aspect) : 0.0;
+}
+
+/// Under this many pixels across its narrow axis a ragged edge moves a polyp's aspect by a point
+/// or more (1-2 points at 11-24 pixels, tests/app/polyp_check_test.cpp).
+constexpr double kFewPixelsAcross = 25.0;
+
 /// The term most responsible for a result's distance from the prediction (PolypViewResult).
 std::string apartBecause(const PolypViewResult& result) {
     const double centreTerm = std::abs(result.centreAspectError - result.predicted.aspectError);
-    const std::string centreCause = result.referenceUnoccludedShare < kFullViewShare ? "occlusion" : "pixels";
+    const std::string centreCause = result.referenceUnoccludedShare < kFullViewShare ? "occlusion"
+                                    : narrowAxisPixels(result.view) < kFewPixelsAcross ? "pixels"
+                                                                                       : "outline";
     if (result.eye == Eye::Centre || !std::isfinite(result.exactWarpAspectError)) {
         const double eyeTerm = std::abs(result.aspectError - result.centreAspectError);
         if (result.eye != Eye::Centre && eyeTerm > centreTerm) return "eye";
@@ -364,7 +396,8 @@ PolypCheckPlan planPolypCheck(const PolypCheckJob& job, const CubeMapLookup& cub
     PolypCheckPlan plan;
     for (const PolypPose& pose : job.poses.empty() ? polypPosesFor(job.display) : job.poses) plan.poses.push_back(targetOf(pose));
     // The radius comes from every pose of the display (and any of the job's own), whichever of
-    // them are rendered: the eye's place does not depend on the poses asked for.
+    // them are rendered: the plan's radius does not depend on the poses asked for. Each polyp's
+    // place is judged at the poses rendered (worstPredictionFrom).
     std::vector<PoseTarget> ruling;
     for (const PolypPose& pose : polypPosesFor(job.display)) ruling.push_back(targetOf(pose));
     ruling.insert(ruling.end(), plan.poses.begin(), plan.poses.end());
@@ -414,14 +447,13 @@ std::vector<PolypViewResult> checkPolyps(Raycaster& raycaster, const PolypCheckJ
     // The poses, and the references from them (the pinhole needs no map), first.
     std::map<std::pair<int, std::size_t>, CameraPose> poses;
     std::map<std::tuple<int, std::size_t, Eye>, Reference> references;
-    std::map<int, double> angularRadii;
+    std::map<int, EyePlace> places;
     for (int index : job.polypIndices) {
         const colon::PolypSurface& polyp = job.polyps[static_cast<std::size_t>(index)];
-        double angularRadiusDeg = plan.angularRadiusDeg;
-        const CameraPose base = eyePoseFor(raycaster, job, plan, predictions, polyp, settings, angularRadiusDeg);
-        angularRadii[index] = angularRadiusDeg;
+        const EyePlace& place = places[index] = eyePlaceFor(raycaster, job, plan, predictions, polyp, settings);
         for (std::size_t p = 0; p < poseCount; ++p) {
-            const CameraPose pose = poseSeeing(base, colon::polypAimPointOf(polyp), plan.poses[p].pose.directionCave);
+            const CameraPose pose =
+                poseSeeing(place.pose, colon::polypAimPointOf(polyp), plan.poses[p].pose.directionCave);
             poses[{index, p}] = pose;
             const ScenePose scene{pose.positionMm, pose.forward, pose.up, job.mmPerMetre};
             for (Eye eye : kEyes) {
@@ -443,7 +475,8 @@ std::vector<PolypViewResult> checkPolyps(Raycaster& raycaster, const PolypCheckJ
         const WarpMode warp = map == conformal::MapKind::None ? WarpMode::None : job.warpMode;
         for (int index : job.polypIndices) {
             const colon::PolypSurface& polyp = job.polyps[static_cast<std::size_t>(index)];
-            const double radiusDeg = angularRadii[index];
+            const EyePlace& place = places[index];
+            const double radiusDeg = place.angularRadiusDeg;
             for (std::size_t p = 0; p < poseCount; ++p) {
                 const PoseTarget& target = plan.poses[p];
                 const CameraPose& pose = poses[{index, p}];
@@ -457,6 +490,10 @@ std::vector<PolypViewResult> checkPolyps(Raycaster& raycaster, const PolypCheckJ
                     map == conformal::MapKind::Conformal
                         ? errorsOf(prediction)
                         : errorsOf(predictions.ofOutline(conformal::MapKind::Conformal, polyp, pose));
+                const PredictedErrors conformalCircle =
+                    errorsOf(predictions.at(conformal::MapKind::Conformal, target.pose, radiusDeg));
+                const std::string untargetedBecause = untargetedBecauseOf(target, place.isInFullView, conformalOutline,
+                                                                          conformalCircle, job.predictedTarget);
                 const std::size_t first = results.size();
                 for (Eye eye : kEyes) {
                     samplesOfEye(images, display, scene, eye, job.warpMode, samples);
@@ -465,9 +502,8 @@ std::vector<PolypViewResult> checkPolyps(Raycaster& raycaster, const PolypCheckJ
                     result.polyp = index;
                     result.diameterMm = polyp.diameterMm;
                     result.pose = target.pose.name;
-                    // Held to the targets where the pose is, and where the conformal map's prediction
-                    // for this polyp's own outline from its place meets the target.
-                    result.isTargeted = target.isTargeted && worstPredicted(conformalOutline) <= job.predictedTarget;
+                    result.isTargeted = untargetedBecause.empty();
+                    result.untargetedBecause = untargetedBecause;
                     result.missingWall = missingWallOf(job.display, target.pose.directionCave);
                     result.eye = eye;
                     result.map = map;

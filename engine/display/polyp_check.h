@@ -74,9 +74,11 @@ struct PoseTarget {
 /// The poses with their targets (targetable where a circle's prediction at the least radius meets
 /// the target), the angular radius at which a round polyp would stand (the largest up to
 /// angularRadiusDeg whose circle prediction meets the target at every targetable pose; each
-/// polyp's own place comes from its outline, checkPolyps), and the largest one a polyp hidden
-/// at every distance from there may come closer to (10 degrees more); a polyp is held to the
-/// targets only at the poses whose prediction for its outline from its place meets them.
+/// polyp's own place comes from the predictions for its outline and for a circle, checkPolyps),
+/// and the largest one a polyp hidden at every distance from there may come closer to (10
+/// degrees more); a polyp is held to the targets only at the poses whose predictions for its
+/// outline and for a circle of its angular radius from its place meet them, and only where some
+/// place on its path shows it in full view.
 struct PolypCheckPlan {
     std::vector<PoseTarget> poses;
     double angularRadiusDeg = 5.0;
@@ -89,6 +91,11 @@ struct PolypViewResult {
     double diameterMm = 0.0;
     std::string pose;
     bool isTargeted = true;
+    /// Why not, where not: "pose" (the pose's floor exceeds the target), "not in view" (no place
+    /// on the polyp's path shows it in full view), "prediction" (the conformal map's prediction
+    /// from the polyp's place, for its outline or for a circle of its angular radius, exceeds the
+    /// target: the circle's only where the eye came closer to see past a fold or a bend).
+    std::string untargetedBecause;
     std::string missingWall;  ///< the missing wall its direction falls on; empty: a present one
     Eye eye = Eye::Left;
     conformal::MapKind map = conformal::MapKind::Conformal;
@@ -114,8 +121,10 @@ struct PolypViewResult {
     /// again, its aspect error through the exact warp; and, where the aspect error is more than
     /// a point from the prediction, the term responsible: "warp" (this warp against the exact
     /// one), "eye" (the stereo eye against the centre), "occlusion" (a fold or a bend hides part
-    /// of the polyp: referenceUnoccludedShare below 0.9), or "pixels" (the rest: the polyp's
-    /// outline is no circle, and its pixels).
+    /// of the polyp: referenceUnoccludedShare below 0.9), "pixels" (the view's narrow axis is
+    /// under 25 pixels), or "outline" (the rest: the outline the rendered polyp shows is not the
+    /// ground truth's the prediction takes, as where a flat polyp's rim merges into a fold; twice
+    /// the wall resolution leaves such a result where it was).
     PredictedErrors predicted, predictedCircle, predictedFloor;
     double centreAspectError = std::numeric_limits<double>::quiet_NaN();
     double exactWarpAspectError = std::numeric_limits<double>::quiet_NaN();
@@ -133,8 +142,9 @@ using CubeMapLookup = std::function<const conformal::CubeMap&(conformal::MapKind
 PolypCheckPlan planPolypCheck(const PolypCheckJob& job, const CubeMapLookup& cubeMaps);
 
 /// Renders and measures every polyp x pose x eye x map of `job` by `plan`. For each polyp the eye
-/// is placed on its path segment where the polyp subtends plan.angularRadiusDeg (before it,
-/// antegrade, where the path allows), the same point for every pose: only the display direction
+/// is placed on its path segment where the map's predictions allow (from angularRadiusDeg down
+/// to minAngularRadiusDeg, closer past a fold; before the polyp, antegrade, where the path
+/// allows), the same point for every pose: only the display direction
 /// changes, so each pose isolates what the map does there. The view is turned about the eye to
 /// put the polyp along the pose's direction, forward as close to the path's as that allows.
 /// `onProgress(done, total)` counts rendered frames (one per polyp, pose and map, the three
