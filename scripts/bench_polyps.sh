@@ -29,8 +29,11 @@ for display in $displays; do
     run="$out/$display/seed_$seed"
     if [ ! -f "$run/polyp_check.json" ]; then
       start=$(date +%s)
+      # Only the polyps the distribution counts (6 mm and more) are checked.
+      polyps=$(/usr/bin/python3 -c 'import json, sys; t = json.load(open(sys.argv[1]))
+print(",".join(str(i) for i, p in enumerate(t["polyps"]) if p["diameter_mm"] >= 6))' "$out/seed_$seed.json")
       "$cvc" polyp-check "$out/seed_$seed.nrrd" --truth "$out/seed_$seed.json" --display "$display" \
-        --maps conformal,linear --force -o "$run" 2>/dev/null | tail -n 3
+        --polyps "$polyps" --maps conformal,linear --force -o "$run" 2>/dev/null | tail -n 3
       echo "$display seed $seed: $(( $(date +%s) - start )) s"
     fi
     runs+=("$run")
