@@ -33,6 +33,13 @@ def number(value):
     return float("nan") if value is None else float(value)
 
 
+def within_targets(r):
+    """Whether a result is visible with its aspect, circularity and grid errors within the targets."""
+    return (r["visible"] and number(r["aspect_error"]) <= ASPECT_TARGET
+            and number(r["circularity_error"]) <= CIRCULARITY_TARGET
+            and number(r["grid_angle_error_deg"]) <= GRID_TARGET_DEG)
+
+
 def load(run_dirs):
     """The results of every run, each with its run folder and its polyp's kind from the truth
     ("sessile", "pedunculated" or "flat", "/fold" added for one on a fold; "?" without a truth)."""
@@ -77,9 +84,7 @@ def main():
     left_out = [r for r in big if r["map"] == "conformal" and not r["targeted"] and r["pose"] in targeted_poses]
     if left_out:
         reasons = collections.Counter(r.get("untargeted_because") or "prediction" for r in left_out)
-        within = sum(1 for r in left_out if r["visible"] and number(r["aspect_error"]) <= ASPECT_TARGET
-                     and number(r["circularity_error"]) <= CIRCULARITY_TARGET
-                     and number(r["grid_angle_error_deg"]) <= GRID_TARGET_DEG)
+        within = sum(1 for r in left_out if within_targets(r))
         am, ap, aw = summary([number(r["aspect_error"]) for r in left_out if r["visible"]])
         say(f"At the targeted poses {len(left_out)} conformal results are reported, not targeted ("
             + ", ".join(f"{REASONS.get(k, k)}: {v}" for k, v in reasons.most_common())
@@ -101,9 +106,7 @@ def main():
         a = [number(r["aspect_error"]) for r in rs]
         c = [number(r["circularity_error"]) for r in rs]
         g = [number(r["grid_angle_error_deg"]) for r in rs]
-        within = sum(1 for r in rs if r["visible"] and number(r["aspect_error"]) <= ASPECT_TARGET
-                     and number(r["circularity_error"]) <= CIRCULARITY_TARGET
-                     and number(r["grid_angle_error_deg"]) <= GRID_TARGET_DEG)
+        within = sum(1 for r in rs if within_targets(r))
         am, ap, aw = summary(a)
         cm, cp, cw = summary(c)
         gm, gp, gw = summary(g)
@@ -116,8 +119,7 @@ def main():
     say("")
 
     conformal = [r for r in big if r["targeted"] and r["map"] == "conformal"]
-    passed = [r for r in conformal if r["visible"] and number(r["aspect_error"]) <= ASPECT_TARGET
-              and number(r["circularity_error"]) <= CIRCULARITY_TARGET and number(r["grid_angle_error_deg"]) <= GRID_TARGET_DEG]
+    passed = [r for r in conformal if within_targets(r)]
     say(f"Conformal, targeted poses, every eye: {len(passed)} of {len(conformal)} results within the targets "
         f"({100 * len(passed) / max(len(conformal), 1):.1f} %).")
     by_eye = collections.Counter(r["eye"] for r in conformal if r not in passed)

@@ -196,20 +196,23 @@ double worstPredictionFrom(Predictions& predictions, const PolypCheckPlan& plan,
     return worst;
 }
 
-/// The eye's place for `polyp` and its angular radius there: on its path segment, the first
-/// pose within 10 % of the distance at which the polyp subtends a radius (those before the
-/// polyp, antegrade, first) that has the polyp in full view. The radius goes
-/// down from job.angularRadiusDeg in quarter degrees to job.minAngularRadiusDeg until the
-/// conformal map's predictions from there (for the polyp's own outline and for a circle of that
-/// radius) meet the target at every targetable pose; where none does, the place in view with the
-/// least prediction. Where a fold or a bend hides the polyp at all those distances it comes
-/// closer, a degree at a time, up to plan.widestAngularRadiusDeg; failing that, the pose nearest
-/// job.angularRadiusDeg's distance, not in full view (its results are reported, not targeted).
+/// Where a polyp's eyes stand: the pose, the polyp's angular radius from there, and whether the
+/// polyp is in full view from it (kFullViewShare).
 struct EyePlace {
     CameraPose pose;
     double angularRadiusDeg = 0.0;
     bool isInFullView = false;
 };
+
+/// The eye's place for `polyp`: on its path segment, the first pose within 10 % of the distance
+/// at which the polyp subtends a radius (those before the polyp, antegrade, first) that has the
+/// polyp in full view. The radius goes down from job.angularRadiusDeg in quarter degrees to
+/// job.minAngularRadiusDeg until the conformal map's predictions from there (for the polyp's own
+/// outline and for a circle of that radius) meet the target at every targetable pose; where none
+/// does, the place in view with the least prediction. Where a fold or a bend hides the polyp at
+/// all those distances it comes closer, a degree at a time, up to plan.widestAngularRadiusDeg;
+/// failing that, the pose nearest job.angularRadiusDeg's distance, not in full view (its results
+/// are reported, not targeted).
 EyePlace eyePlaceFor(Raycaster& raycaster, const PolypCheckJob& job, const PolypCheckPlan& plan,
                      Predictions& predictions, const colon::PolypSurface& polyp, const RenderSettings& settings) {
     PathSettings fine = job.path;

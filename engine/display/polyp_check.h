@@ -144,8 +144,8 @@ PolypCheckPlan planPolypCheck(const PolypCheckJob& job, const CubeMapLookup& cub
 /// Renders and measures every polyp x pose x eye x map of `job` by `plan`. For each polyp the eye
 /// is placed on its path segment where the map's predictions allow (from angularRadiusDeg down
 /// to minAngularRadiusDeg, closer past a fold; before the polyp, antegrade, where the path
-/// allows), the same point for every pose: only the display direction
-/// changes, so each pose isolates what the map does there. The view is turned about the eye to
+/// allows), the same point for every pose: only the display direction changes, so each pose
+/// isolates what the map does there. The view is turned about the eye to
 /// put the polyp along the pose's direction, forward as close to the path's as that allows.
 /// `onProgress(done, total)` counts rendered frames (one per polyp, pose and map, the three
 /// eyes together). Throws std::invalid_argument for a polyp index the truth lacks.
