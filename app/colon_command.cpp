@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/option_groups.h"
 #include "app/option_parsing.h"
 #include "colon/colon_report.h"
 #include "colon/overview_image.h"
@@ -112,14 +113,10 @@ void addColonCommand(CLI::App& program) {
     auto cleanse = std::make_shared<std::string>("auto");
     CLI::App* command = program.add_subcommand(
         "colon", "Find the air-filled colon of a CT, cleanse tagged fluid, extract its centreline (rectum -> caecum)");
-    command
-        ->add_option("volume,--volume", request->volumePath,
-                     "Volume: DICOM folder, .nrrd/.nhdr, .nii/.nii.gz, .mha/.mhd, .vdb, or raw with --raw")
-        ->required();
-    command->add_option("--raw", request->rawSpec, "Describe a headerless raw file, e.g. 512x512x451:int16:0.7x0.7x1.25");
-    command->add_option("-o,--out", request->outFolder, "Output folder")->required();
-    command->add_flag("--force", request->force, "Replace existing output files");
-    command->add_option("--json", request->jsonPath, "Also write the summary (colon.json's content) to this file");
+    addVolumeOptions(*command, request->volumePath, request->rawSpec);
+    addOutputOptions(*command, request->outFolder, "Output folder", true, request->jsonPath,
+                     "Also write the summary (colon.json's content) to this file", request->force,
+                     "Replace existing output files");
     command->add_option("--air-threshold", request->settings.segmentation.airThresholdHu, "Air is below this HU")
         ->check(CLI::Range(-1024.0, 0.0))
         ->capture_default_str();

@@ -1,6 +1,6 @@
 /// @brief `cvc render --display`: every wall of an immersive display for both eyes, at one
 /// pose or along a path, bent through the display's map. The engine renders the sequence
-/// (engine/display/frame_sequence.h); this file turns options into a job, shows progress and
+/// (engine/sequence/frame_sequence.h); this file turns options into a job, shows progress and
 /// passes Ctrl-C in as a cancel request.
 #include <atomic>
 #include <csignal>
@@ -14,20 +14,20 @@
 #include <nlohmann/json.hpp>
 
 #include "app/colon_command.h"
-#include "app/mpi_session.h"
 #include "app/option_parsing.h"
 #include "app/progress_bar.h"
-#include "app/rank_stop_report.h"
 #include "app/render_options.h"
 #include "conformal/cube_map_baker.h"
 #include "conformal/cube_map_speed.h"
+#include "distribution/mpi_session.h"
+#include "distribution/rank_stop_report.h"
 #include "engine/core/gpu_context.h"
-#include "engine/display/camera_path.h"
 #include "engine/display/display_json.h"
 #include "engine/display/display_map.h"
-#include "engine/display/frame_sequence.h"
-#include "engine/display/review_page.h"
 #include "engine/render/volume_texture.h"
+#include "engine/sequence/camera_path.h"
+#include "engine/sequence/frame_sequence.h"
+#include "engine/sequence/sequence_review_page.h"
 #include "volumes/load_volume.h"
 
 namespace app {
@@ -143,7 +143,7 @@ SharedRequest readRequest(const RenderOptions& givenOptions, RenderOptions& opti
 void runDisplayRender(const RenderOptions& givenOptions) {
     // Under mpirun rank 0 alone reads the display and the path (and runs the colon analysis for
     // --path auto); every rank gets what it found.
-    MpiSession& mpi = mpiSession();
+    distribution::MpiSession& mpi = distribution::mpiSession();
     RenderOptions options = givenOptions;
     SharedRequest request;
     if (mpi.rank() == 0) request = readRequest(givenOptions, options);
@@ -224,15 +224,15 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     share.reportFrameWritten = [&mpi](std::vector<unsigned char> message) { mpi.sendToRoot(std::move(message)); };
     share.takeFrameWritten = [&mpi] { return mpi.receiveAtRoot(); };
     // Rank 0 names a rank that dies, and the frame it was at, when mpirun stops the job.
-    const std::vector<RankProcess> processes =
-        mpi.isShared() ? rankProcessesOf(mpi.gatherProcesses()) : std::vector<RankProcess>{};
-    std::optional<RankStopReport> stopReport;
+    const std::vector<distribution::RankProcess> processes =
+        mpi.isShared() ? distribution::rankProcessesOf(mpi.gatherProcesses()) : std::vector<distribution::RankProcess>{};
+    std::optional<distribution::RankStopReport> stopReport;
     if (mpi.isShared() && mpi.rank() == 0) {
         stopReport.emplace(isatty(fileno(stderr)) != 0);
         hooks.onPendingFrames = [&](const std::vector<int>& pending) {
             std::vector<std::vector<int>> frames;
             for (int rank = 0; rank < share.ranks; ++rank) frames.push_back(engine::framesOfRank(pending, share, rank));
-            stopReport->arm(rankStopStateOf(options.outPath, thisHostName(), processes, std::move(frames),
+            stopReport->arm(distribution::rankStopStateOf(options.outPath, distribution::thisHostName(), processes, std::move(frames),
                                             static_cast<int>(job.poses.size())));
         };
     }

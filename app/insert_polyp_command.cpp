@@ -14,9 +14,10 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/option_groups.h"
 #include "app/option_parsing.h"
 #include "colon/polyp_insertion.h"
-#include "engine/display/camera_path.h"
+#include "engine/sequence/camera_path.h"
 #include "volumes/load_volume.h"
 #include "volumes/nrrd_io.h"
 
@@ -193,11 +194,7 @@ void addInsertPolypCommand(CLI::App& program) {
     CLI::App* command = program.add_subcommand(
         "insert-polyp",
         "Insert a synthetic polyp on the colon wall nearest a point of the lumen; write the volume and its ground truth");
-    command
-        ->add_option("volume,--volume", options->volumePath,
-                     "Volume: DICOM folder, .nrrd/.nhdr, .nii/.nii.gz, .mha/.mhd, .vdb, or raw with --raw")
-        ->required();
-    command->add_option("--raw", options->rawSpec, "Describe a headerless raw file, e.g. 512x512x451:int16:0.7x0.7x1.25");
+    addVolumeOptions(*command, options->volumePath, options->rawSpec);
     command->add_option("--at", options->atMm, "A point in the lumen, x,y,z in volume mm: the polyp goes on the nearest wall")
         ->expected(3)
         ->delimiter(',')
@@ -206,13 +203,12 @@ void addInsertPolypCommand(CLI::App& program) {
         ->required();
     command->add_option("--stalk", options->stalkLengthMm,
                         "Stalk length in mm, wall to the head: a pedunculated polyp (default 0: sessile)");
-    command->add_option("-o,--out", options->outPath, "Output volume (.nrrd)")->required();
+    addOutputOptions(*command, options->outPath, "Output volume (.nrrd)", true, options->jsonPath,
+                     "Also write a summary of the insertion to this file", options->force, "Replace existing output files");
     command->add_option("--truth", options->truthPath, "Ground-truth JSON (default: the output path with .json)");
     command->add_option("--centreline", options->centrelinePath,
                         "A colon.json (`cvc colon`) or ground truth: its centreline goes into the truth (usable as "
                         "`render --path`), its polyps are kept before the new one");
-    command->add_flag("--force", options->force, "Replace existing output files");
-    command->add_option("--json", options->jsonPath, "Also write a summary of the insertion to this file");
     command->callback([options] { runInsertPolyp(*options); });
 }
 

@@ -8,8 +8,8 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
-#include "app/mpi_session.h"
-#include "engine/display/frame_sequence.h"
+#include "distribution/mpi_session.h"
+#include "engine/sequence/frame_sequence.h"
 
 int main(int argc, char** argv) {
     // A file-size limit (ulimit -f) would otherwise kill the process with SIGXFSZ mid-write;
@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
     // the file, the finished frames kept for --resume.
     std::signal(SIGXFSZ, SIG_IGN);
     // Under mpirun, MPI starts before anything else (and sets lavapipe's threads per rank).
-    const app::MpiSession mpi(&argc, &argv);
+    const distribution::MpiSession mpi(&argc, &argv);
     CLI::App program{"conformal-vc: virtual colonoscopy rendering for partially-immersive displays"};
     program.require_subcommand(1);
     program.set_version_flag("--version", "conformal-vc 0.1.0");

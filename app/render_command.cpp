@@ -9,15 +9,15 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
-#include "app/mpi_session.h"
+#include "app/option_groups.h"
 #include "app/option_parsing.h"
 #include "app/render_options.h"
+#include "distribution/mpi_session.h"
 #include "engine/core/gpu_context.h"
 #include "engine/output/hit_image_writer.h"
-#include "engine/render/pinhole_camera.h"
 #include "engine/output/png_writer.h"
+#include "engine/render/pinhole_camera.h"
 #include "engine/render/raycaster.h"
-#include "engine/render/transfer_function.h"
 #include "engine/render/view_rays.h"
 #include "engine/render/volume_texture.h"
 #include "volumes/load_volume.h"
@@ -138,40 +138,12 @@ void refuseOptionsNotApplying(const CLI::App& command, const RenderOptions& opti
 
 }  // namespace
 
-engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isDisplay) {
-    engine::RenderSettings settings = options.settings;
-    settings.mode = options.mode == "composite" ? engine::RenderMode::Composite : engine::RenderMode::IsoSurface;
-    settings.filter = options.filter == "tricubic" ? engine::VolumeFilter::Tricubic : engine::VolumeFilter::Trilinear;
-    // Stills get smooth normals; display frames, which come by the dozen from inside the colon
-    // where the bands hardly show, keep the 4x cheaper trilinear ones (docs/benchmarks.md).
-    const std::string gradient = !options.gradient.empty() ? options.gradient : isDisplay ? "central" : "bspline";
-    settings.gradient = gradient == "central" ? engine::GradientFilter::Central : engine::GradientFilter::BSpline;
-    settings.isSkipping = !options.isSkippingOff;
-    settings.isUsingRayStartPass = !options.isStartPassOff;
-    // The gradient volume pays for itself over many frames; a single still would spend longer
-    // computing it (1.3-1.7 s for the 512x512x451 yardstick here) than it saves (docs/benchmarks.md).
-    settings.isUsingGradientVolume = options.gradientVolume.empty() ? isDisplay : options.gradientVolume == "on";
-    // Each default is chosen here, once; a value given is passed on as it is, so a bad one is
-    // refused by the ray caster's checks instead of silently replaced.
-    settings.lightHalfDistanceMm = options.lightHalfDistanceMm.value_or(isDisplay ? 25.0 : 0.0);
-    // Display frames come by the dozen and their hits are refined by bisection: a voxel-long
-    // step halves their time; a still keeps the finer default.
-    settings.stepVoxels = options.stepVoxels.value_or(isDisplay ? 1.0 : 0.5);
-    if (settings.mode == engine::RenderMode::Composite) {
-        engine::transferFunctionPreset(settings.transferFunction);  // a typo fails before any loading
-    }
-    return settings;
-}
-
 void addRenderCommand(CLI::App& program) {
     auto options = std::make_shared<RenderOptions>();
     engine::RenderSettings& s = options->settings;
     CLI::App* command = program.add_subcommand(
         "render", "Render a CT volume: a pinhole view to a PNG, or with --display every wall for both eyes to a folder");
-    command->add_option("volume,--volume", options->volumePath,
-                        "Volume: DICOM folder, .nrrd/.nhdr, .nii/.nii.gz, .mha/.mhd, .vdb, or raw with --raw")
-        ->required();
-    command->add_option("--raw", options->rawSpec, "Describe a headerless raw file, e.g. 512x512x451:int16:0.7x0.7x1.25");
+    addVolumeOptions(*command, options->volumePath, options->rawSpec);
     command->add_option("-o,--out", options->outPath,
                         "Output: a PNG file (pinhole view, default render.png) or a folder (--display, default frames)");
     CLI::Option* hits = command->add_option(
@@ -196,36 +168,31 @@ void addRenderCommand(CLI::App& program) {
         ->capture_default_str()->group(camera);
 
     auto* display = "Display";
-    command->add_option("--display", options->display, "ic5, ic6, cave6, cave4, forward or a display JSON file")->group(display);
-    command->add_option("--map", options->map, "Override the display's map: conformal, linear, none")
-        ->check(CLI::IsMember({"conformal", "linear", "none"}))->group(display);
-    command->add_option("--map-size", options->mapSize, "Cube-map texels per face edge of the bake (not with --cube-map, whose file has its size)")
-        ->capture_default_str()->group(display);
+    DisplayOptionFields displayFields;
+    displayFields.display = &options->display;
+    displayFields.map = &options->map;
+    displayFields.mapSize = &options->mapSize;
+    displayFields.mapSizeHelp = "Cube-map texels per face edge of the bake (not with --cube-map, whose file has its size)";
+    displayFields.warp = &options->warp;
+    displayFields.warpHelp =
+        "How the map bends the rays: eye-centred (the map about each eye: each eye sees a conformal image of its own "
+        "view), or the warp of space about the map centre (paper Eq. 7) marched as a polyline through five mapped "
+        "points of each ray (within a fraction of a pixel of exact), as one chord (the stereo eyes' rays off by "
+        "pixels), or exact (every sample mapped: the reference, 4.5 times the time)";
+    displayFields.mmPerMetre = &options->mmPerMetre;
+    addDisplayOptions(*command, displayFields, display);
     command->add_option("--cube-map", options->cubeMapFile,
                         "Bend the rays through this file from `cvc bake` instead of the cached bake; its box, map "
                         "centre and map must match the display's (after --map), its size replaces --map-size")
         ->group(display);
-    command->add_option("--warp", options->warp,
-                        "How the map bends the rays: eye-centred (the map about each eye: each eye sees a "
-                        "conformal image of its own view), or the warp of space about the map centre (paper "
-                        "Eq. 7) marched as a polyline through five mapped points of each ray (within a "
-                        "fraction of a pixel of exact), as one chord (the stereo eyes' rays off by pixels), or "
-                        "exact (every sample mapped: the reference, 4.5 times the time)")
-        ->check(CLI::IsMember(engine::bendingWarpModeNames()))->capture_default_str()->group(display);
-    command->add_option("--scale", options->mmPerMetre, "Volume millimetres per CAVE metre")
-        ->capture_default_str()->group(display);
     command->add_flag("--before-after", options->isWritingBeforeAfter,
                       "Also write before_after.png: the centre eye's walls without and with the map")->group(display);
-    command->add_option("--path", options->pathFile,
-                        "Centreline: a phantom's JSON ground truth, cvc colon's colon.json, a text file of x y z, or "
-                        "auto (run cvc colon on the volume into OUT/colon and fly along its centreline)")
-        ->group(display);
-    command->add_option("--path-step", options->pathStepMm, "Arc length between frames in mm")
-        ->capture_default_str()->group(display);
-    command->add_option("--smoothing", options->smoothingMm, "Half-width in mm of the view-direction smoothing")
-        ->capture_default_str()->group(display);
-    command->add_flag("--retrograde", options->isRetrograde, "Fly caecum -> rectum (default: antegrade, rectum -> caecum)")->group(display);
-    command->add_option("--frames", options->maxFrames, "Render at most this many frames of the path")->group(display);
+    addPathOptions(*command,
+                   {&options->pathFile,
+                    "Centreline: a phantom's JSON ground truth, cvc colon's colon.json, a text file of x y z, or auto "
+                    "(run cvc colon on the volume into OUT/colon and fly along its centreline)",
+                    false, &options->pathStepMm, &options->smoothingMm, &options->isRetrograde, &options->maxFrames},
+                   display);
     command->add_option("--distribute", options->distribution,
                         "Under mpirun: frames (each rank renders whole frames) or walls (each rank renders fixed "
                         "walls of every frame, the cabin cluster's layout)")
@@ -275,7 +242,7 @@ void addRenderCommand(CLI::App& program) {
         ->group(rendering);
     command->add_flag("--skip-bent-rays", s.isSkippingBentRays,
                       "--warp exact: skip empty space along the bent rays too, by the map's speed bound "
-                      "(slower on lavapipe; docs/benchmarks.md)")
+                      "(slower on lavapipe; docs/benchmarks/march.md)")
         ->group(rendering);
     command->add_option("--skip-cell", s.skipCellVoxels, "Edge in voxels of the empty-space map's cells (8: the 8^3 bricks)")
         ->check(CLI::Range(1, 64))->capture_default_str()->group(rendering);
@@ -290,8 +257,7 @@ void addRenderCommand(CLI::App& program) {
         "--light-distance", [options](const double& value) { options->lightHalfDistanceMm = value; },
                         "Distance in mm at which the headlight is half as bright (0: no falloff; default: none for "
                         "a pinhole view, 25 for a display)")->group(rendering);
-    command->add_option("--device", options->device,
-                        "Vulkan device: index, part of its name, 'cpu' or 'gpu' (default: $CVC_DEVICE, else the best)");
+    addDeviceOption(*command, options->device);
     command->callback([options, hits, command] {
         refuseOptionsNotApplying(*command, *options);
         if (options->display.empty()) {
@@ -299,7 +265,7 @@ void addRenderCommand(CLI::App& program) {
                 throw std::invalid_argument("--hits needs a file name for a pinhole view (e.g. --hits hits.nrrd)");
             }
             if (options->outPath.empty()) options->outPath = "render.png";
-            if (mpiSession().isShared()) {
+            if (distribution::mpiSession().isShared()) {
                 throw std::invalid_argument("a pinhole view is one image: under mpirun give --display to share frames");
             }
             runPinholeRender(*options);
@@ -308,7 +274,7 @@ void addRenderCommand(CLI::App& program) {
                 throw std::invalid_argument("--hits takes no file name for a display render: the hit images go beside "
                                             "each wall's PNG");
             }
-            if (command->count("--distribute") > 0 && !mpiSession().isShared()) {
+            if (command->count("--distribute") > 0 && !distribution::mpiSession().isShared()) {
                 std::cerr << "cvc: warning: --distribute splits the work between mpirun's ranks; this one process "
                              "renders all of it\n";
             }

@@ -62,7 +62,7 @@ struct RenderOptions {
 /// std::invalid_argument for an unknown transfer function.
 engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isDisplay);
 
-/// Renders a display (walls x eyes x poses) into a folder; see engine/display/frame_sequence.h.
+/// Renders a display (walls x eyes x poses) into a folder; see engine/sequence/frame_sequence.h.
 void runDisplayRender(const RenderOptions& options);
 
 }  // namespace app

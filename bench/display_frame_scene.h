@@ -7,9 +7,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "engine/display/camera_path.h"
 #include "engine/display/display_description.h"
 #include "engine/render/render_settings.h"
+#include "engine/sequence/camera_path.h"
 #include "volumes/brick_minmax.h"
 #include "volumes/volume.h"
 

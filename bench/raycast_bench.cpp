@@ -1,14 +1,14 @@
 /// @brief `cvc_bench ceiling`: the rate of plain trilinear volume sampling on a device, the
-/// ceiling a ray caster's sampling rate is measured against (scripts/bench_raycaster.py).
+/// ceiling a ray caster's sampling rate is measured against (scripts/bench/bench_raycaster.py).
 /// `cvc_bench png`: the time and size of PNG encodings of a rendered wall, to choose the
-/// display sequence's settings (scripts/bench_flythrough.sh).
+/// display sequence's settings (scripts/bench/bench_flythrough.sh).
 /// `cvc_bench warp`: the warp's own cost, through an identity cube map (bench/warp_bench.h,
-/// scripts/bench_warp_cost.sh).
+/// scripts/bench/bench_warp_cost.sh).
 /// `cvc_bench skipping`: empty-space skipping's cost or gain on one pinhole view, per step size
-/// (bench/skipping_bench.h, scripts/bench_march.sh).
+/// (bench/skipping_bench.h, scripts/bench/bench_march.sh).
 /// `cvc_bench view`: a pinhole view timed as the VTK yardstick times VTK (bench/view_bench.h).
 /// `cvc_bench stereo`: the stereo eyes' warps, time against error (bench/stereo_bench.h,
-/// scripts/bench_stereo.sh).
+/// scripts/bench/bench_stereo.sh).
 /// `cvc_bench polyline`: how far the chord and the polyline stray from a stereo eye's bent ray
 /// (bench/polyline_study.h).
 #include <algorithm>
@@ -20,17 +20,17 @@
 #include <CLI/CLI.hpp>
 #include <png.h>
 
+#include "bench/polyline_study.h"
+#include "bench/skipping_bench.h"
+#include "bench/stereo_bench.h"
+#include "bench/view_bench.h"
+#include "bench/warp_bench.h"
 #include "engine/core/command_submission.h"
 #include "engine/core/compute_pipeline.h"
 #include "engine/core/gpu_buffer.h"
 #include "engine/core/gpu_context.h"
 #include "engine/output/png_writer.h"
 #include "engine/render/volume_texture.h"
-#include "bench/polyline_study.h"
-#include "bench/skipping_bench.h"
-#include "bench/stereo_bench.h"
-#include "bench/view_bench.h"
-#include "bench/warp_bench.h"
 #include "sampling_ceiling_spv.h"
 #include "volumes/load_volume.h"
 

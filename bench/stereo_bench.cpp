@@ -16,9 +16,9 @@
 #include "conformal/cube_map_speed.h"
 #include "engine/core/gpu_context.h"
 #include "engine/display/display_map.h"
-#include "engine/display/frame_sequence.h"
 #include "engine/render/raycaster.h"
 #include "engine/render/volume_texture.h"
+#include "engine/sequence/frame_sequence.h"
 #include "volumes/brick_minmax.h"
 
 namespace bench {

@@ -2,7 +2,7 @@
 /// stereo display frame at a polyp's pose rendered with each warp (chord, eye-centred, polyline,
 /// exact, and exact skipping along its bent rays), alternating, at one or more scales; each mode's device
 /// time, paired ratio to the chord's, volume fetches per ray, first frame (with its table's
-/// fill) and, per eye, its difference to the exact warp's images (scripts/bench_stereo.sh).
+/// fill) and, per eye, its difference to the exact warp's images (scripts/bench/bench_stereo.sh).
 #pragma once
 
 #include <vector>

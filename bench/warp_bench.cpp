@@ -18,9 +18,9 @@
 #include "conformal/direction_map.h"
 #include "engine/core/gpu_context.h"
 #include "engine/display/display_map.h"
-#include "engine/display/frame_sequence.h"
 #include "engine/render/raycaster.h"
 #include "engine/render/volume_texture.h"
+#include "engine/sequence/frame_sequence.h"
 #include "volumes/brick_minmax.h"
 
 namespace bench {

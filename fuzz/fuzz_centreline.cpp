@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <stdexcept>
 
-#include "engine/display/camera_path.h"
+#include "engine/sequence/camera_path.h"
 #include "fuzz/fuzz_input_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {

@@ -8,7 +8,7 @@
 // |e - c|^2 / t. The paper's single chord from the near plane to the far end starts on the bent
 // part, so it runs beside that line by about |e - c| all the way: on the cabin's map at 10 mm
 // per metre its worst distance from the curve beyond 15 mm from the eye is 18.6 pixel footprints
-// at the 99th percentile of directions (`cvc_bench polyline`; docs/benchmarks.md, "Stereo rays:
+// at the 99th percentile of directions (`cvc_bench polyline`; docs/benchmarks/stereo.md, "Stereo rays:
 // the polyline warp"), enough to change a polyp's shape by several per cent.
 //
 // The polyline's vertices lie on the curve: its near-plane point, the points at t = 4, 14 and 49

@@ -25,7 +25,7 @@
 // The pass also decides whether the tile's march looks at the distance map at all. Each look
 // runs for the whole vector of rays, and on coarse CT from inside the colon no look finds room
 // to skip (a cell needs an empty cell on every side for that): the looks were pure cost there,
-// 4-12 % of the frame (docs/benchmarks.md). The tile's centre and corner rays are walked cell by
+// 4-12 % of the frame (docs/benchmarks/march.md). The tile's centre and corner rays are walked cell by
 // cell from the tile's start; the looks stay on only if one of them meets an empty cell with
 // room to skip (distance 2 or more) before a cell that can contribute. Whatever the answer, a
 // march with a fixed step takes the same samples (but for float rounding of where a skip

@@ -93,7 +93,7 @@ uint tileIndexOf(uvec2 tile) {
 // The chord table is laid out tile by tile (each tile's CVC_TILE_SIZE^2 pixels row by row, then
 // its cone bound, then the next tile), in the order the work groups run, so that on a CPU
 // device a frame reads it as one stream. (Laid out by image rows, a tile's rows would lie a
-// wall's width apart, each on a page of its own; docs/benchmarks.md.) The polyline warp's
+// wall's width apart, each on a page of its own; docs/benchmarks/warp.md.) The polyline warp's
 // table has the same order with four vec4s a pixel.
 const uint kChordTableVec4sPerPixel = kWarp == CVC_WARP_POLYLINE ? CVC_POLYLINE_TABLE_BYTES_PER_PIXEL / 16
                                                                  : CVC_CHORD_TABLE_BYTES_PER_PIXEL / 16;
@@ -356,7 +356,7 @@ float stepAt(Segment s, float t) {
 // map is not read again before the ray leaves the cell. (Moving t to where the ray leaves the
 // empty cube of 2d - 1 cells instead, as Chebyshev distance maps allow, took 11 % fewer fetches
 // on the yardstick but 11 % more time: more of the looks, which run for the whole vector of
-// rays, found nothing; docs/benchmarks.md.)
+// rays, found nothing; docs/benchmarks/march.md.)
 //
 // An exact-warped ray is bent at every sample: its scene point W(q), q = o + t d, moves at most
 // (1 + L) mm per mm of t. The radius |q - c| changes by at most 1 mm, and the direction of

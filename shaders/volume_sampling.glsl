@@ -90,7 +90,7 @@ float sampleHu(vec3 pMm) { return huFromUnorm(fetchFiltered(texFromMm(pMm))); }
 // B-spline, twice continuously differentiable, so the normals turn smoothly; used only where a
 // sample is shaded. (The B-spline's exact derivative, 24 fetches, was measured too: without
 // the central difference's one-voxel averaging it shows the terraces sharper than trilinear;
-// docs/benchmarks.md.)
+// docs/benchmarks/normals.md.)
 vec3 gradientCentralHu(vec3 pMm, bool isTricubic) {
     vec3 tc = texFromMm(pMm);
     vec3 h = 1.0 / u.volumeDims;

@@ -10,7 +10,7 @@ namespace engine {
 /// How a PNG is compressed: zlib's level (1 fastest .. 9 smallest) and the row filter PNG
 /// applies before it. libpng's default (adaptive: it tries all five filters on every row) is
 /// the slowest, and on rendered walls, whose CT noise defeats the filters' prediction, it does
-/// not even give smaller files than no filter (docs/benchmarks.md, cvc_bench png).
+/// not even give smaller files than no filter (docs/benchmarks/stereo.md, "PNG encoding").
 enum class PngFilter { None, Sub, Up, Paeth, Adaptive };
 struct PngEncoding {
     int zlibLevel = 6;

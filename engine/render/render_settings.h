@@ -48,10 +48,10 @@ struct RenderSettings {
     double stepVoxels = 0.5;                      // base step, in units of the smallest voxel side
     /// Iso mode: bisection steps refining a hit, then a linear interpolation in the last bracket;
     /// 0 = the raw sample. Two leave hits within hundredths of a millimetre of 12 on average, far
-    /// below the sampling's own error (docs/benchmarks.md, "The march loop: two bisection steps").
+    /// below the sampling's own error (docs/benchmarks/march.md, "The march loop: two bisection steps").
     int refinementSteps = 2;
     VolumeFilter filter = VolumeFilter::Trilinear;
-    GradientFilter gradient = GradientFilter::BSpline;  // docs/benchmarks.md, "Shading normals on coarse CT"
+    GradientFilter gradient = GradientFilter::BSpline;  // docs/benchmarks/normals.md, "Shading normals on coarse CT"
     /// Read shading gradients from the gradient volume (engine/render/gradient_volume.h), computed
     /// once per volume at 8 bytes a voxel: one fetch per shaded sample in place of 6 (8 in place
     /// of 48 for B-spline normals), the same normals but for half-float rounding. Where the device
@@ -69,7 +69,7 @@ struct RenderSettings {
     bool isLookingInEveryTile = false;
     /// With skipping and the exact warp: skip along the bent rays too, by the map's speed bound
     /// (Raycaster::setSpeedBounds). Off by default: on lavapipe each look costs a map fetch, and
-    /// at the demo's pose the frame took 7 % longer with it (docs/benchmarks.md).
+    /// at the demo's pose the frame took 7 % longer with it (docs/benchmarks/march.md).
     bool isSkippingBentRays = false;
     int skipCellVoxels = 2;                       // cell edge of that map, voxels (8: the 8^3 bricks)
     bool isAdaptive = false;                      // lengthen steps where a pixel covers > 1 voxel

@@ -1,5 +1,5 @@
 /// @brief conformal_measure: the measurements behind docs/conformal.md (not a test; prints
-/// tables and writes data for scripts/plot_conformal.py).
+/// tables and writes data for scripts/bench/plot_conformal.py).
 ///   conformal_measure phi6 RES...                 phi6 against the closed form, per metric
 ///   conformal_measure accuracy N RES REF_RES BOX   the baked map against the estimated true F
 ///   conformal_measure timing N RES                 map + bake time, cached load time

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/display/camera_path.h"
+#include "engine/sequence/camera_path.h"
 
 namespace {
 

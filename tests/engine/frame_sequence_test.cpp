@@ -13,10 +13,10 @@
 
 #include "conformal/cube_map_baker.h"
 #include "engine/display/display.h"
-#include "engine/display/frame_sequence.h"
 #include "engine/output/png_reader.h"
 #include "engine/render/raycaster.h"
 #include "engine/render/volume_texture.h"
+#include "engine/sequence/frame_sequence.h"
 #include "tests/support/folder_compare.h"
 #include "tests/support/gpu_test_fixture.h"
 #include "volumes/analytic_phantom.h"

@@ -13,7 +13,7 @@
 
 #include "conformal/cave_box.h"
 #include "engine/display/display.h"
-#include "engine/display/polyp_poses.h"
+#include "engine/studies/polyp_poses.h"
 
 namespace {
 

@@ -11,8 +11,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "engine/display/review_page.h"
-#include "engine/display/review_volume.h"
+#include "engine/review/review_page.h"
+#include "engine/review/review_volume.h"
+#include "engine/sequence/sequence_review_page.h"
 
 namespace {
 

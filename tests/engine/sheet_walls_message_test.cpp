@@ -2,7 +2,7 @@
 // packed comes back pixel for pixel, and a short, long or inconsistent message is refused.
 #include <gtest/gtest.h>
 
-#include "engine/display/sheet_walls_message.h"
+#include "engine/sequence/sheet_walls_message.h"
 
 namespace {
 

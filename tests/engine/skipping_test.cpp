@@ -133,7 +133,7 @@ engine::ViewRays downTheTube(const volumes::TubeSpec& tube) {
     return engine::viewRaysFrom(camera);
 }
 
-/// The shared 3 mm abdominal CT, and docs/benchmarks.md's camera inside its air-filled colon.
+/// The shared 3 mm abdominal CT, and the camera of docs/benchmarks/time_against_error.md inside its air-filled colon.
 volumes::Volume abdominalCt() {
     return volumes::loadVolume(std::string(CVC_SHARED_DATA_DIR) + "/ct/ts_example_abdomen_3mm.nrrd");
 }

@@ -1,6 +1,6 @@
 /// @brief Benchmarks of the volumes module on a 512 x 512 x 451 CT (the abdomen of
 /// ../shared/data resampled trilinearly): brick min/max build time, load time and peak memory
-/// per format. Timings, not assertions; scripts/bench_volumes.sh runs every step.
+/// per format. Timings, not assertions; scripts/bench/bench_volumes.sh runs every step.
 ///
 ///   volumes_bench make FOLDER   writes ct.nrrd, ct_gzip.nrrd, ct.mha (zlib), ct.nii.gz, ct.vdb
 ///                               and a DICOM series dicom/ (one file per slice)
