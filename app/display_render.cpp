@@ -27,6 +27,7 @@
 #include "engine/render/volume_texture.h"
 #include "engine/sequence/camera_path.h"
 #include "engine/sequence/frame_sequence.h"
+#include "engine/sequence/sequence_dicom.h"
 #include "engine/sequence/sequence_review_page.h"
 #include "volumes/load_volume.h"
 
@@ -176,6 +177,7 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     engine::SequenceOutput output{options.outPath, options.force, options.resume, {}};
     if (isAutomaticPath) output.companions = {"colon"};
     engine::checkSequenceOutput(job, output);  // before the volume loads: a refusal comes at once
+    if (!options.dicomOut.empty()) checkDicomOutput(options.dicomOut, options.force);
 
     volumes::LoadOptions load;
     if (!options.rawSpec.empty()) load.raw = volumes::parseRawSpec(options.rawSpec);
@@ -247,6 +249,12 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     if (mpi.rank() != 0) return;  // rank 0 writes the page and speaks for the job
     // After the sequence, so that a resumed run's page covers the frames kept and the new ones.
     engine::writeReviewPage(options.outPath, engine::reviewPageOfSequence(job, &loaded.volume));
+    if (!options.dicomOut.empty()) {
+        // The source's identifiers: the folder given, not the cleansed NRRD that --path auto renders.
+        const engine::SequenceDicomSummary dicom = engine::writeSequenceDicom(
+            job, options.outPath, options.dicomOut, volumes::dicomIdentifiersOf(givenOptions.volumePath), options.force);
+        std::cerr << "dicom: " << dicom.files << " file(s) in " << dicom.series << " series in " << options.dicomOut << '\n';
+    }
     const int images = summary.framesRendered * 2 * static_cast<int>(display.walls.size());
     std::cout << "rendered " << summary.framesRendered << " frame(s) (" << images << " wall images) on "
               << context.driverDescription();

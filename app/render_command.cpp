@@ -2,6 +2,7 @@
 /// immersive display for both eyes, at one pose or along a path, into a folder.
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -20,38 +21,16 @@
 #include "engine/render/raycaster.h"
 #include "engine/render/view_rays.h"
 #include "engine/render/volume_texture.h"
+#include "volumes/dicom_secondary_capture.h"
 #include "volumes/load_volume.h"
 
 namespace app {
 namespace {
 
-/// With no position given, the camera looks at the volume's centre from the patient's front
-/// (anterior, −y in LPS) with the head up (+z), whatever order the file stores the axes in,
-/// far enough back for the whole box to fit the field of view.
-engine::PinholeCamera cameraFrom(const RenderOptions& options, const volumes::Volume& volume) {
-    engine::PinholeCamera camera;
-    const auto [width, height] = parseImageSize(options.size);
-    camera.width = width;
-    camera.height = height;
-    camera.verticalFovDeg = options.fovDeg;
-    const glm::dvec3 centre = (glm::dvec3(volume.dims[0], volume.dims[1], volume.dims[2]) - 1.0) * 0.5 * volume.spacingMm;
-    camera.lookAtMm = options.lookAtMm.empty() ? centre : vec3From(options.lookAtMm, "--look-at");
-    camera.up = options.up.empty() ? volumes::volumeDirectionFromPatient(volume, glm::dvec3(0.0, 0.0, 1.0))
-                                   : vec3From(options.up, "--up");
-    if (options.positionMm.empty()) {
-        const double radius = 0.5 * glm::length(volume.extentMm());
-        const double distance = radius / std::sin(glm::radians(std::min(options.fovDeg, 170.0)) * 0.5);
-        const glm::dvec3 anterior = volumes::volumeDirectionFromPatient(volume, glm::dvec3(0.0, -1.0, 0.0));
-        camera.positionMm = camera.lookAtMm + anterior * distance;
-    } else {
-        camera.positionMm = vec3From(options.positionMm, "--position");
-    }
-    return camera;
-}
-
 void runPinholeRender(const RenderOptions& options) {
     requireWritableOutput(options.outPath, options.force);
     if (!options.hitsPath.empty()) requireWritableOutput(options.hitsPath, options.force);
+    if (!options.dicomOut.empty()) checkDicomOutput(options.dicomOut, options.force);
     engine::RenderSettings settings = renderSettingsFrom(options, false);
     settings.isWritingHits = !options.hitsPath.empty();
 
@@ -75,6 +54,17 @@ void runPinholeRender(const RenderOptions& options) {
     if (image.deviceMs >= 0.0) std::cout << "ray casting " << image.deviceMs << " ms, ";
     std::cout << "total " << totalS << " s\nwrote " << options.outPath << '\n';
     if (!options.hitsPath.empty()) std::cout << "wrote " << options.hitsPath << '\n';
+    if (!options.dicomOut.empty()) {
+        volumes::SecondaryCapture capture;
+        capture.identifiers = volumes::dicomIdentifiersOf(options.volumePath);
+        capture.seriesInstanceUid = volumes::newDicomUid();
+        capture.seriesDescription = "cvc render pinhole view";
+        capture.imageComments = "pinhole view";
+        std::filesystem::create_directories(options.dicomOut);
+        const std::string file = (std::filesystem::path(options.dicomOut) / "render.dcm").string();
+        volumes::writeSecondaryCapture(file, image.width, image.height, image.rgba, capture, options.force);
+        std::cout << "wrote " << file << '\n';
+    }
     if (options.isPrintingStats) {
         // A second pass with the counting variant of the shader, so the timed pass is the real one.
         settings.isWritingHits = true;
@@ -151,6 +141,9 @@ void addRenderCommand(CLI::App& program) {
         "Also write first-hit positions (volume mm): a pinhole view to this .nrrd file; a display render (no "
         "file name) to frame_NNNN/EYE/WALL_hits.nrrd beside each wall")->expected(0, 1);
     command->add_flag("--force", options->force, "Replace existing output");
+    command->add_option("--dicom-out", options->dicomOut,
+                        "Also write the pictures into this folder as DICOM Secondary Capture, in the source series' "
+                        "study (a source that is not DICOM gets marked placeholder identifiers)");
     command->add_flag("--stats", options->isPrintingStats,
                       "Pinhole view: also print the volume fetches per ray and per second");
     command->add_flag("--resume", options->resume, "Display: keep the finished frames in the folder, render the rest");

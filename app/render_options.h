@@ -5,7 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "engine/render/pinhole_camera.h"
 #include "engine/render/render_settings.h"
+#include "volumes/volume.h"
 
 namespace app {
 
@@ -18,6 +20,7 @@ struct RenderOptions {
     std::string hitsPath;               // pinhole view: --hits FILE
     bool isWritingDisplayHits = false;  // display render: --hits (no file name)
     bool isPrintingStats = false;  // pinhole: also count the volume fetches each ray makes
+    std::string dicomOut;          // --dicom-out DIR: the pictures also as DICOM Secondary Capture
     bool force = false;
     bool resume = false;
     // Camera (pinhole), or the single pose of a display
@@ -61,6 +64,15 @@ struct RenderOptions {
 /// Applies the string options (mode, filter, skipping, light) to options.settings; throws
 /// std::invalid_argument for an unknown transfer function.
 engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isDisplay);
+
+/// The pinhole camera the options ask for. With no position given, it looks at the volume's
+/// centre from the patient's front (anterior, -y in LPS) with the head up (+z), whatever order
+/// the file stores the axes in, far enough back for the whole box to fit the field of view.
+engine::PinholeCamera cameraFrom(const RenderOptions& options, const volumes::Volume& volume);
+
+/// Throws before any work when `folder` (--dicom-out) is a file, or holds DICOM files and
+/// `force` is false.
+void checkDicomOutput(const std::string& folder, bool force);
 
 /// Renders a display (walls x eyes x poses) into a folder; see engine/sequence/frame_sequence.h.
 void runDisplayRender(const RenderOptions& options);
