@@ -24,6 +24,23 @@ void validateRenderSettings(const RenderSettings& s) {
             "roughness in (0, 1], Fresnel and ambient in [0, 1]");
 }
 
+RenderSettings defaultRenderSettings(RenderUse use) {
+    const bool isDisplay = use == RenderUse::DisplayFrames;
+    RenderSettings settings;
+    // Stills get smooth normals; display frames, which come by the dozen from inside the colon
+    // where the bands hardly show, keep the 4x cheaper trilinear ones (docs/benchmarks/normals.md).
+    settings.gradient = isDisplay ? GradientFilter::Central : GradientFilter::BSpline;
+    // The gradient volume pays for itself over many frames; a single still would spend longer
+    // computing it (1.3-1.7 s for the 512x512x451 yardstick here) than it saves (docs/benchmarks/march.md).
+    settings.isUsingGradientVolume = isDisplay;
+    // Display frames light the near wall: a headlight half as bright 25 mm away; a still has none.
+    settings.lightHalfDistanceMm = isDisplay ? 25.0 : 0.0;
+    // Display frames come by the dozen and their hits are refined by bisection: a voxel-long
+    // step halves their time; a still keeps the finer default.
+    settings.stepVoxels = isDisplay ? 1.0 : 0.5;
+    return settings;
+}
+
 std::string warpModeName(WarpMode mode) {
     switch (mode) {
         case WarpMode::None: return "none";

@@ -97,6 +97,15 @@ struct RenderSettings {
     bool isUsingChordTable = true;
 };
 
+/// What images are for, which sets a few defaults: a pinhole still, or display frames (both
+/// eyes' walls along a path, by the dozen).
+enum class RenderUse { Still, DisplayFrames };
+
+/// RenderSettings with the defaults of `use` (every other field as RenderSettings has it):
+/// shading normals, the gradient volume, the step and the headlight's falloff. `cvc render` and
+/// the Python module start from these, so the same request gives the same image.
+RenderSettings defaultRenderSettings(RenderUse use);
+
 /// The warp of space about the map centre (DESIGN.md "Rays"), in volume millimetres.
 struct Warp {
     WarpMode mode = WarpMode::None;

@@ -120,10 +120,8 @@ CoverageJob coverageJobOf(const CoverageStudySettings& settings, const CoverageR
     job.display = row.display;
     job.poses = posesOf(settings, scene.centreline, row.directions);
     job.mmPerMetre = settings.mmPerMetre;
+    job.settings = defaultRenderSettings(RenderUse::DisplayFrames);  // as display renders
     job.settings.isoHu = settings.isoHu;
-    job.settings.stepVoxels = 1.0;  // as display renders: hits refined by bisection
-    job.settings.gradient = GradientFilter::Central;
-    job.settings.lightHalfDistanceMm = 25.0;
     job.warpMode = settings.warpMode;
     return job;
 }
