@@ -30,6 +30,18 @@ std::string trimmedValue(const std::string& text) {
     return end == std::string::npos ? std::string() : text.substr(0, end + 1);
 }
 
+/// The text of a data set's tags, without the padding, as GDCM's string filter gives them.
+class TagText {
+public:
+    explicit TagText(gdcm::File& file) { mStrings.SetFile(file); }
+    std::string operator()(uint16_t group, uint16_t element) const {
+        return trimmedValue(mStrings.ToString(gdcm::Tag(group, element)));
+    }
+
+private:
+    gdcm::StringFilter mStrings;
+};
+
 /// The first file (by name) of series `seriesUid` in `folder`.
 std::string firstFileOfSeries(const std::string& folder, const std::string& seriesUid) {
     gdcm::Directory directory;
@@ -90,11 +102,7 @@ DicomIdentifiers dicomIdentifiersOf(const std::string& volumePath, const std::st
     gdcm::Reader reader;
     reader.SetFileName(file.c_str());
     if (!reader.Read()) throw VolumeError(file + ": GDCM could not read it");
-    gdcm::StringFilter strings;
-    strings.SetFile(reader.GetFile());
-    const auto value = [&strings](uint16_t group, uint16_t element) {
-        return trimmedValue(strings.ToString(gdcm::Tag(group, element)));
-    };
+    const TagText value(reader.GetFile());
     ids.patientName = value(0x0010, 0x0010);
     ids.patientId = value(0x0010, 0x0020);
     ids.patientBirthDate = value(0x0010, 0x0030);
@@ -200,11 +208,7 @@ SecondaryCaptureFile readSecondaryCapture(const std::string& path) {
         throw std::runtime_error(path + ": its pixel data could not be decoded");
     }
     if (image.GetPlanarConfiguration() != 0) throw std::runtime_error(path + ": planar RGB is not read here");
-    gdcm::StringFilter strings;
-    strings.SetFile(reader.GetFile());
-    const auto value = [&strings](uint16_t group, uint16_t element) {
-        return trimmedValue(strings.ToString(gdcm::Tag(group, element)));
-    };
+    const TagText value(reader.GetFile());
     file.sopClassUid = value(0x0008, 0x0016);
     file.sopInstanceUid = value(0x0008, 0x0018);
     file.seriesInstanceUid = value(0x0020, 0x000e);
