@@ -16,6 +16,7 @@
 #include "app/option_parsing.h"
 #include "colon/colon_report.h"
 #include "colon/overview_image.h"
+#include "colon/slicer_files.h"
 #include "engine/output/png_writer.h"
 #include "volumes/load_volume.h"
 #include "volumes/nrrd_io.h"
@@ -28,7 +29,28 @@ namespace fs = std::filesystem;
 ColonOutputs outputsIn(const std::string& folder) {
     const fs::path dir(folder);
     return {(dir / "colon.json").string(), (dir / "centreline.txt").string(), (dir / "lumen.nrrd").string(),
-            (dir / "overview.png").string(), (dir / "cleansed.nrrd").string(), false};
+            (dir / "overview.png").string(), (dir / "cleansed.nrrd").string(), (dir / "lumen.seg.nrrd").string(),
+            {}, false};
+}
+
+/// Segment N's centreline for 3D Slicer.
+std::string centrelineMarkupsIn(const std::string& folder, std::size_t segmentIndex) {
+    return (fs::path(folder) / ("centreline_segment_" + std::to_string(segmentIndex + 1) + ".mrk.json")).string();
+}
+
+/// Writes the lumen and the centreline for 3D Slicer (colon/slicer_files.h); with `overwrite`,
+/// removes the curves of segments an earlier analysis of the folder had and this one has not.
+void writeSlicerFiles(const colon::ColonAnalysis& analysis, const volumes::Volume& volume, const std::string& folder,
+                      bool overwrite, ColonOutputs& outputs) {
+    colon::writeLumenSegmentation(analysis, outputs.lumenSegmentation, overwrite);
+    for (std::size_t s = 0; s < analysis.segments.size(); ++s) {
+        outputs.centrelineMarkups.push_back(centrelineMarkupsIn(folder, s));
+        requireWritableOutput(outputs.centrelineMarkups.back(), overwrite);
+        writeTextFile(outputs.centrelineMarkups.back(), colon::centrelineMarkupsJson(analysis, s, volume));
+    }
+    for (std::size_t s = analysis.segments.size(); overwrite && fs::exists(centrelineMarkupsIn(folder, s)); ++s) {
+        fs::remove(centrelineMarkupsIn(folder, s));
+    }
 }
 
 /// A finished analysis of the same volume in `outputs`' folder, if there is one.
@@ -73,7 +95,8 @@ ColonOutputs runColonAnalysis(const ColonRequest& request) {
         return outputs;
     }
     fs::create_directories(request.outFolder);
-    for (const std::string& path : {outputs.colonJson, outputs.centrelineText, outputs.lumenNrrd, outputs.overviewPng}) {
+    for (const std::string& path : {outputs.colonJson, outputs.centrelineText, outputs.lumenNrrd, outputs.overviewPng,
+                                    outputs.lumenSegmentation}) {
         requireWritableOutput(path, request.force || request.resume);
     }
     if (!request.jsonPath.empty()) requireWritableOutput(request.jsonPath, request.force);
@@ -99,6 +122,7 @@ ColonOutputs runColonAnalysis(const ColonRequest& request) {
         outputs.cleansedNrrd.clear();
     }
     writeTextFile(outputs.centrelineText, colon::centrelineText(analysis));
+    writeSlicerFiles(analysis, volume, request.outFolder, overwrite, outputs);
     const std::string json = colon::colonJson(analysis, volume, fs::absolute(request.volumePath).string());
     const colon::RgbaImage overview = colon::overviewImage(volume, analysis);  // the scan as rendered: cleansed
     engine::writePng(outputs.overviewPng, overview.width, overview.height, overview.rgba, true);

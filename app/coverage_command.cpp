@@ -4,11 +4,7 @@
 /// hit marked on the wall (colon/surface_coverage.h, engine/studies/coverage_run.h). Writes the
 /// percentage, the unseen patches largest first with a pose that shows each, pictures of them
 /// and a review page; `--compare` runs the table of displays and maps on one path.
-#include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <filesystem>
-#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -22,12 +18,11 @@
 #include "app/option_groups.h"
 #include "app/option_parsing.h"
 #include "app/progress_bar.h"
+#include "distribution/coverage_over_ranks.h"
 #include "distribution/work_share.h"
 #include "engine/core/gpu_context.h"
 #include "engine/display/display_json.h"
-#include "engine/display/display_map.h"
 #include "engine/render/volume_texture.h"
-#include "engine/review/review_page.h"
 #include "engine/studies/coverage_study.h"
 
 namespace app {
@@ -55,93 +50,29 @@ struct CoverageOptions {
 /// six rows run in minutes on a CPU; docs/coverage.md shows how full size changes a row.
 constexpr const char* kCompareWallSize = "350x262";
 
-/// Flies this rank's frames of the row's path (every frame for one process; frame i goes to rank
-/// i mod N under mpirun), marks what they show and writes each one's sheet.
-engine::CoverageRowResult flyAndMeasure(const CoverageOptions& options, const engine::CoverageRow& row,
-                                        const engine::CoverageScene& scene, engine::Raycaster& raycaster,
-                                        colon::SurfaceCoverage& coverage, const fs::path& folder) {
-    distribution::MpiSession& mpi = distribution::mpiSession();
-    engine::CoverageRowResult result;
-    result.job = engine::coverageJobOf(options.study, row, scene);
-    // Rank 0 bakes or finds the map first; the others then load it from the cache it filled.
-    if (row.display.map != conformal::MapKind::None) {
-        distribution::rootFirst(mpi, [&] {
-            const conformal::CubeMap map = engine::cubeMapFor(row.display, options.mapSize, "");
-            raycaster.setCubeMap(map.size, map.rgba);
-        });
-    }
-    const int total = static_cast<int>(result.job.poses.size());
-    const std::vector<int> frameOf = distribution::deal(total, mpi.rank(), mpi.ranks());  // the row's frame of each of mine
-    engine::CoverageJob mine = result.job;
-    mine.poses = distribution::dealt(result.job.poses, mpi);
-    if (distribution::isReporter(mpi)) std::cerr << "coverage: " << row.name << ": " << total << " frame(s)\n";
+/// Renders one row, measures its coverage and writes its folder; returns its JSON summary (on
+/// rank 0; null elsewhere). Progress goes to stderr, the row's result line to stdout.
+nlohmann::json runRow(const CoverageOptions& options, const engine::CoverageRow& row, const engine::CoverageScene& scene,
+                      engine::Raycaster& raycaster, const std::string& rendererDescription, const fs::path& folder) {
     std::optional<ProgressBar> progress;
-    engine::CoverageHooks hooks;
-    // Rank 0 shows the whole row: the frames whose sheets are in the folder, whoever wrote them.
-    hooks.onProgress = [&](int, int) {
-        if (!distribution::isReporter(mpi)) return;
-        int done = 0;
-        for (int i = 0; i < total; ++i) done += fs::exists(folder / engine::frameFolderName(i) / "sheet.png") ? 1 : 0;
+    distribution::CoverageReport report;
+    report.say = [](const std::string& line) { std::cerr << line << '\n'; };
+    report.onProgress = [&progress](int done, int total) {
         if (!progress) progress.emplace(std::cerr, total, done, isatty(fileno(stderr)) != 0);
         progress->update(done);
     };
-    hooks.onFrame = [&](int index, const std::vector<engine::WallImage>& walls) {
-        const auto start = std::chrono::steady_clock::now();
-        engine::writeCoverageSheet(folder, frameOf[static_cast<std::size_t>(index)], result.job.display, walls);
-        result.sheetSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
-    try {
-        result.run = engine::runCoverage(raycaster, mine, coverage, hooks);
-    } catch (...) {
+    report.onFramesDone = [&progress] {
         if (progress) progress->finish();
-        throw;
-    }
-    // What each frame showed first, by the row's frame index, for rank 0 to merge.
-    nlohmann::json shown = nlohmann::json::array();
-    for (std::size_t f = 0; f < result.run.frames.size(); ++f) shown.push_back({frameOf[f], result.run.frames[f].newlySeenElements});
-    const std::vector<std::string> all = distribution::gatherAtRoot(mpi, shown.dump());
-    if (progress) {
-        hooks.onProgress(total, total);
-        progress->finish();
-    }
-    if (!distribution::isReporter(mpi)) return result;
-    std::vector<std::vector<uint32_t>> byFrame(result.job.poses.size());
-    for (const std::string& text : all) {
-        for (const auto& entry : nlohmann::json::parse(text)) {
-            byFrame.at(entry[0].get<std::size_t>()) = entry[1].get<std::vector<uint32_t>>();
-        }
-    }
-    coverage = engine::mergedCoverage(coverage.surface(), options.study.coverage, byFrame, result.cumulativePercent);
-    return result;
-}
-
-/// Renders one row, measures its coverage and writes its folder; returns its JSON summary.
-nlohmann::json runRow(const CoverageOptions& options, const engine::CoverageRow& row, const engine::CoverageScene& scene,
-                      engine::Raycaster& raycaster, const std::string& rendererDescription, const fs::path& folder) {
-    engine::validateDisplay(row.display);
-    distribution::MpiSession& mpi = distribution::mpiSession();
-    if (distribution::isReporter(mpi)) fs::create_directories(folder);
-    mpi.barrier();
-    colon::SurfaceCoverage coverage(scene.wall, options.study.coverage);
-    engine::CoverageRowResult result = flyAndMeasure(options, row, scene, raycaster, coverage, folder);
-    if (!distribution::isReporter(mpi)) return {};  // rank 0 has every rank's frames: it reports the row
-    engine::locateAndPictureUnseen(options.study, scene, raycaster, coverage, result, folder);
-    const nlohmann::json doc = engine::coverageRowJson(options.study, row, coverage, result, rendererDescription, mpi.ranks());
-    writeTextFile((folder / "coverage.json").string(), doc.dump(1) + "\n");
-    engine::writeCoverageRowPage(options.study, row, scene, coverage, result, rendererDescription, folder);
-    std::cout << std::fixed << std::setprecision(1) << row.name << ": " << coverage.percent() << " % of "
-              << coverage.wallAreaMm2() / 100.0 << " cm^2 seen over " << result.job.poses.size() << " frames, "
-              << result.patches.size() << " unseen patch(es) of " << options.study.minPatchMm2 << " mm^2 or more; "
-              << std::setprecision(2) << result.run.seconds << " s (measuring " << result.run.measureSeconds << " s)\n";
-    return doc;
+        progress.reset();
+    };
+    report.tell = [](const std::string& line) { std::cout << line << '\n'; };
+    return distribution::coverageRowOverRanks(distribution::mpiSession(), options.study, row, scene, raycaster,
+                                              options.mapSize, rendererDescription, folder, report);
 }
 
 engine::Display rowDisplay(const std::string& name, const std::string& map, const std::string& wallSize) {
-    engine::Display display = engine::loadDisplay(name);
-    if (!map.empty()) display.map = conformal::mapKindFromName(map);
-    if (!wallSize.empty()) resizeWalls(display, wallSize);
-    engine::validateDisplay(display);
-    return display;
+    const int width = wallSize.empty() ? 0 : parseImageSize(wallSize, "--wall-size").first;
+    return engine::coverageRowDisplay(name, map, width);
 }
 
 std::vector<engine::CoverageRow> rowsOf(const CoverageOptions& options) {
@@ -163,24 +94,10 @@ std::vector<engine::CoverageRow> rowsOf(const CoverageOptions& options) {
 }
 
 void validate(const CoverageOptions& options) {
-    if (options.study.pathFile.empty()) throw std::invalid_argument("--path is required (a centreline file, or auto)");
     if (options.isRetrograde && options.isBothDirections) {
         throw std::invalid_argument("--retrograde and --both-directions exclude each other");
     }
-    if (!(options.study.pathStepMm >= 0.1 && options.study.pathStepMm <= 100.0)) throw std::invalid_argument("--path-step must be 0.1..100 mm");
-    if (!(options.study.smoothingMm >= 0.0 && options.study.smoothingMm <= 200.0)) throw std::invalid_argument("--smoothing must be 0..200 mm");
-    if (options.study.maxFrames < 0) throw std::invalid_argument("--frames must not be negative");
-    if (!(options.study.mmPerMetre > 0.0 && options.study.mmPerMetre <= 1000.0)) throw std::invalid_argument("--scale must be in (0, 1000] mm per metre");
-    if (options.mapSize < 16 || options.mapSize > 4096) throw std::invalid_argument("--map-size must be 16..4096");
-    if (!std::isfinite(options.study.isoHu)) throw std::invalid_argument("--iso must be a finite HU value");
-    if (!(options.study.coverage.maxFootprintMm2 > 0.0 && options.study.coverage.maxFootprintMm2 <= 100.0)) {
-        throw std::invalid_argument("--max-footprint must be in (0, 100] mm^2 per pixel");
-    }
-    if (!(options.study.coverage.maxViewAngleDeg > 0.0 && options.study.coverage.maxViewAngleDeg <= 90.0)) {
-        throw std::invalid_argument("--max-angle must be in (0, 90] degrees");
-    }
-    if (!(options.study.minPatchMm2 >= 0.0 && std::isfinite(options.study.minPatchMm2))) throw std::invalid_argument("--min-patch must be >= 0 mm^2");
-    if (options.study.patchPictures < 0 || options.study.patchPictures > 100) throw std::invalid_argument("--patch-pictures must be 0..100");
+    engine::validateCoverageStudySettings(options.study, options.mapSize);
 }
 
 void runCoverageCommand(const CoverageOptions& givenOptions) {

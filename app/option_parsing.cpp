@@ -76,13 +76,7 @@ void requireWritableOutput(const std::string& path, bool force) {
 }
 
 void resizeWalls(engine::Display& display, const std::string& size) {
-    const int width = parseImageSize(size, "--wall-size").first;
-    const double perMetre = width / display.boxSizeM.x;
-    for (engine::DisplayWall& wall : display.walls) {
-        const engine::WallRectangle rect = engine::wallRectangle(display, wall.name);
-        wall.width = std::max(1, static_cast<int>(std::lround(glm::length(rect.widthM) * perMetre)));
-        wall.height = std::max(1, static_cast<int>(std::lround(glm::length(rect.heightM) * perMetre)));
-    }
+    engine::resizeWallsToWidth(display, parseImageSize(size, "--wall-size").first);
 }
 
 void writeTextFile(const std::string& path, const std::string& text) {

@@ -24,6 +24,7 @@ public:
     ~SessionVolume();
 
     [[nodiscard]] const volumes::Volume& volume() const { return mLoaded.volume; }
+    [[nodiscard]] const volumes::LoadedVolume& loaded() const { return mLoaded; }
     [[nodiscard]] const std::string& source() const { return mSource; }
     /// The ray caster of this volume (made on first use). `cubeMapKey` names the display map
     /// set on it last, so a render of the same display does not upload the map again.

@@ -20,6 +20,7 @@ packages=(
   chromium chromium-driver python3-selenium  # the review page's test in a headless browser
   libopenmpi-dev openmpi-bin                 # mpirun -np N cvc render ... (and its tests)
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module cvc and its tests
+  python3-jsonschema                         # the Slicer files checked against the Markups schema
 )
 
 sudo=""

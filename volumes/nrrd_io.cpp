@@ -12,6 +12,8 @@
 #include <sstream>
 #include <vector>
 
+#include "volumes/gzip_compress.h"
+
 namespace volumes {
 namespace {
 
@@ -288,32 +290,74 @@ Volume readNrrd(const std::string& path) {
     return volume;
 }
 
-void writeNrrd(const Volume& volume, const std::string& path, bool overwrite) {
-    validateVolume(volume, path);
+namespace {
+
+/// Opens `path` for a new NRRD file, refusing to replace one unless `overwrite`.
+std::ofstream openNrrdForWriting(const std::string& path, bool overwrite) {
     if (!overwrite && std::filesystem::exists(path)) {
         fail(path, "exists already (pass --force to replace it)");
     }
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     if (!out) fail(path, "cannot open for writing (" + std::string(std::strerror(errno)) + ")");
     out.precision(17);
-    out << "NRRD0004\n"
-        << "# conformal-vc volume, int16 Hounsfield units\n"
-        << "type: int16\n"
-        << "dimension: 3\n"
-        << "space: left-posterior-superior\n"
-        << "sizes: " << volume.dims[0] << ' ' << volume.dims[1] << ' ' << volume.dims[2] << '\n'
+    return out;
+}
+
+/// The header lines that place `grid` in the patient frame (LPS): sizes, axes, origin.
+void writeLpsGeometry(std::ostream& out, const Volume& grid) {
+    out << "space: left-posterior-superior\n"
+        << "sizes: " << grid.dims[0] << ' ' << grid.dims[1] << ' ' << grid.dims[2] << '\n'
         << "space directions:";
     for (int axis = 0; axis < 3; ++axis) {
-        const glm::dvec3 d = volume.directionLps[axis] * volume.spacingMm[axis];
+        const glm::dvec3 d = grid.directionLps[axis] * grid.spacingMm[axis];
         out << " (" << d.x << ',' << d.y << ',' << d.z << ')';
     }
     out << "\nkinds: domain domain domain\n"
-        << "endian: little\n"
-        << "encoding: raw\n"
-        << "space origin: (" << volume.originLps.x << ',' << volume.originLps.y << ',' << volume.originLps.z << ")\n\n";
+        << "space origin: (" << grid.originLps.x << ',' << grid.originLps.y << ',' << grid.originLps.z << ")\n";
+}
+
+}  // namespace
+
+void writeNrrd(const Volume& volume, const std::string& path, bool overwrite) {
+    validateVolume(volume, path);
+    std::ofstream out = openNrrdForWriting(path, overwrite);
+    out << "NRRD0004\n"
+        << "# conformal-vc volume, int16 Hounsfield units\n"
+        << "type: int16\n"
+        << "dimension: 3\n";
+    writeLpsGeometry(out, volume);
+    out << "endian: little\n"
+        << "encoding: raw\n\n";
     static_assert(std::endian::native == std::endian::little, "writer assumes a little-endian host");
     out.write(reinterpret_cast<const char*>(volume.hu.data()),
               static_cast<std::streamsize>(volume.hu.size() * sizeof(int16_t)));
+    if (!out) fail(path, "write failed (disk full or folder not writable?)");
+}
+
+void writeLabelNrrd(const Volume& grid, std::span<const std::uint8_t> labels, const NrrdKeyValues& keyValues,
+                    const std::string& path, bool overwrite) {
+    if (labels.size() != grid.voxelCount()) {
+        fail(path, "holds " + std::to_string(labels.size()) + " labels for a grid of " +
+                       std::to_string(grid.voxelCount()) + " voxels");
+    }
+    for (const auto& [key, value] : keyValues) {
+        const bool isOneLine = key.find_first_of("\n\r") == std::string::npos && value.find_first_of("\n\r") == std::string::npos;
+        if (key.empty() || key.find(":=") != std::string::npos || !isOneLine) {
+            fail(path, "key/value pair '" + key + "' cannot be written in a NRRD header");
+        }
+    }
+    std::ofstream out = openNrrdForWriting(path, overwrite);
+    out << "NRRD0004\n"
+        << "# conformal-vc labels\n"
+        << "type: uint8\n"
+        << "dimension: 3\n";
+    writeLpsGeometry(out, grid);
+    out << "encoding: gzip\n";
+    for (const auto& [key, value] : keyValues) out << key << ":=" << value << '\n';
+    out << '\n';
+    // Labels are long runs of one value: level 6 makes a whole CT's lumen a few hundred kB.
+    const std::vector<unsigned char> payload = gzipCompressed(std::as_bytes(labels), 6);
+    out.write(reinterpret_cast<const char*>(payload.data()), static_cast<std::streamsize>(payload.size()));
     if (!out) fail(path, "write failed (disk full or folder not writable?)");
 }
 

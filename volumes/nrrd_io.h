@@ -4,7 +4,10 @@
 #include <array>
 #include <cstdint>
 #include <istream>
+#include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "volumes/voxel_decode.h"
 #include "volumes/volume.h"
@@ -44,5 +47,15 @@ Volume readNrrd(const std::string& path);
 /// Writes `volume` as NRRD0004 with attached raw little-endian int16 data in LPS space.
 /// Refuses (VolumeError) to replace an existing file unless `overwrite` is true.
 void writeNrrd(const Volume& volume, const std::string& path, bool overwrite = false);
+
+/// A NRRD header's `key:=value` pairs, in the order they are written.
+using NrrdKeyValues = std::vector<std::pair<std::string, std::string>>;
+
+/// Writes `labels` (one uint8 per voxel of `grid`, x fastest) as NRRD0004 on `grid`'s LPS
+/// geometry, gzip encoded, with `keyValues` in the header: the form of a 3D Slicer segmentation
+/// (.seg.nrrd). Refuses (VolumeError) a label count that does not match the grid, a pair that
+/// cannot be written on one header line, and replacing a file unless `overwrite` is true.
+void writeLabelNrrd(const Volume& grid, std::span<const std::uint8_t> labels, const NrrdKeyValues& keyValues,
+                    const std::string& path, bool overwrite = false);
 
 }  // namespace volumes

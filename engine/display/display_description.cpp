@@ -163,6 +163,15 @@ WallRectangle wallRectangle(const Display& display, WallName wall) {
     throw std::logic_error("unknown wall");
 }
 
+void resizeWallsToWidth(Display& display, int widthPixels) {
+    const double perMetre = widthPixels / display.boxSizeM.x;
+    for (DisplayWall& wall : display.walls) {
+        const WallRectangle rect = wallRectangle(display, wall.name);
+        wall.width = std::max(1, static_cast<int>(std::lround(glm::length(rect.widthM) * perMetre)));
+        wall.height = std::max(1, static_cast<int>(std::lround(glm::length(rect.heightM) * perMetre)));
+    }
+}
+
 std::string eyeText(Eye eye) {
     switch (eye) {
         case Eye::Left: return "left";

@@ -72,6 +72,10 @@ struct WallRectangle {
 };
 WallRectangle wallRectangle(const Display& display, WallName wall);
 
+/// Resizes every wall of `display` so that `widthPixels` span the box's width, at the same pixel
+/// density on every wall (each keeps its own proportions, as the display's own walls do).
+void resizeWallsToWidth(Display& display, int widthPixels);
+
 enum class Eye { Left, Centre, Right };
 std::string eyeText(Eye eye);
 

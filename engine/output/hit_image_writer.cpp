@@ -10,7 +10,7 @@
 #include <limits>
 #include <vector>
 
-#include <zlib.h>
+#include "volumes/gzip_compress.h"
 
 namespace engine {
 namespace {
@@ -23,25 +23,6 @@ void checkHitImage(const std::string& path, int width, int height, std::span<con
     if (!overwrite && std::filesystem::exists(path)) {
         throw std::runtime_error(path + ": exists already (pass --force to replace it)");
     }
-}
-
-/// `bytes` as one gzip member (zlib's deflate with a gzip wrapper), at zlib level 1: the
-/// positions of neighbouring pixels differ in every bit, so harder levels gain little.
-std::vector<unsigned char> gzipped(std::span<const std::byte> bytes) {
-    z_stream stream{};
-    if (deflateInit2(&stream, 1, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
-        throw std::runtime_error("cannot start the gzip compressor");
-    }
-    std::vector<unsigned char> out(deflateBound(&stream, static_cast<uLong>(bytes.size())));
-    stream.next_in = reinterpret_cast<Bytef*>(const_cast<std::byte*>(bytes.data()));
-    stream.avail_in = static_cast<uInt>(bytes.size());
-    stream.next_out = out.data();
-    stream.avail_out = static_cast<uInt>(out.size());
-    const int result = deflate(&stream, Z_FINISH);
-    out.resize(stream.total_out);
-    deflateEnd(&stream);
-    if (result != Z_STREAM_END) throw std::runtime_error("gzip compression failed");
-    return out;
 }
 
 /// Writes a NRRD of float vectors: `components` per pixel of a width x height image, the payload
@@ -64,14 +45,14 @@ void writeHitPositionsNrrd(const std::string& path, int width, int height, std::
     static_assert(std::endian::native == std::endian::little, "the writer assumes a little-endian host");
     checkHitImage(path, width, height, hitMm, overwrite);
     const std::size_t pixels = hitMm.size() / 4;
-    if (pixels * 12 > std::numeric_limits<uInt>::max() / 2) throw std::invalid_argument(path + ": hit image too large");
     std::vector<float> xyz(pixels * 3);
     const float miss = std::numeric_limits<float>::quiet_NaN();
     for (std::size_t i = 0; i < pixels; ++i) {
         const bool isHit = hitMm[4 * i + 3] > 0.0f;
         for (std::size_t c = 0; c < 3; ++c) xyz[3 * i + c] = isHit ? hitMm[4 * i + c] : miss;
     }
-    const std::vector<unsigned char> payload = gzipped(std::as_bytes(std::span(xyz)));
+    // zlib level 1: the positions of neighbouring pixels differ in every bit, so harder levels gain little.
+    const std::vector<unsigned char> payload = volumes::gzipCompressed(std::as_bytes(std::span(xyz)), 1);
     writeVectorNrrd(path, "first-hit positions in volume millimetres (x, y, z); NaN where the ray missed", 3, width,
                     height, "gzip", std::as_bytes(std::span(payload)));
 }

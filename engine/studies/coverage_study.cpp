@@ -1,6 +1,7 @@
 #include "engine/studies/coverage_study.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -10,6 +11,7 @@
 
 #include "colon/colon_analysis.h"
 #include "colon/coverage_image.h"
+#include "engine/display/display_json.h"
 #include "engine/output/png_writer.h"
 #include "engine/review/review_page.h"
 #include "engine/review/review_sheet.h"
@@ -54,7 +56,7 @@ std::string rowDescription(const colon::CoverageSettings& s) {
 /// The names a coverage run writes into its folder, and nothing else: --force replaces these only.
 bool isOurEntry(const std::string& name) {
     static const std::vector<std::string> kNames = {"coverage.json", "coverage.png", "patches", "compare.json",
-                                                    "compare.md"};
+                                                    "compare.md", "unseen_patches.mrk.json"};
     if (std::find(kNames.begin(), kNames.end(), name) != kNames.end()) return true;
     if (name.rfind("frame_", 0) == 0 || name.rfind("row_", 0) == 0) return true;
     const auto page = reviewPageFileNames();
@@ -80,13 +82,44 @@ std::string coverageDirectionsText(CoverageDirections d) {
     return d == CoverageDirections::Both ? "both" : d == CoverageDirections::Retrograde ? "retrograde" : "antegrade";
 }
 
+void validateCoverageStudySettings(const CoverageStudySettings& s, int mapSize) {
+    if (s.pathFile.empty()) throw std::invalid_argument("--path is required (a centreline file, or auto)");
+    if (!(s.pathStepMm >= 0.1 && s.pathStepMm <= 100.0)) throw std::invalid_argument("--path-step must be 0.1..100 mm");
+    if (!(s.smoothingMm >= 0.0 && s.smoothingMm <= 200.0)) throw std::invalid_argument("--smoothing must be 0..200 mm");
+    if (s.maxFrames < 0) throw std::invalid_argument("--frames must not be negative");
+    if (!(s.mmPerMetre > 0.0 && s.mmPerMetre <= 1000.0)) throw std::invalid_argument("--scale must be in (0, 1000] mm per metre");
+    if (mapSize < 16 || mapSize > 4096) throw std::invalid_argument("--map-size must be 16..4096");
+    if (!std::isfinite(s.isoHu)) throw std::invalid_argument("--iso must be a finite HU value");
+    if (!(s.coverage.maxFootprintMm2 > 0.0 && s.coverage.maxFootprintMm2 <= 100.0)) {
+        throw std::invalid_argument("--max-footprint must be in (0, 100] mm^2 per pixel");
+    }
+    if (!(s.coverage.maxViewAngleDeg > 0.0 && s.coverage.maxViewAngleDeg <= 90.0)) {
+        throw std::invalid_argument("--max-angle must be in (0, 90] degrees");
+    }
+    if (!(s.minPatchMm2 >= 0.0 && std::isfinite(s.minPatchMm2))) throw std::invalid_argument("--min-patch must be >= 0 mm^2");
+    if (s.patchPictures < 0 || s.patchPictures > 100) throw std::invalid_argument("--patch-pictures must be 0..100");
+}
+
+Display coverageRowDisplay(const std::string& name, const std::string& map, int wallWidth) {
+    Display display = loadDisplay(name);
+    if (!map.empty()) display.map = conformal::mapKindFromName(map);
+    if (wallWidth > 0) resizeWallsToWidth(display, wallWidth);
+    validateDisplay(display);
+    return display;
+}
+
 CoverageScene prepareCoverageScene(const CoverageStudySettings& settings,
                                    const std::function<void(const std::string&)>& say) {
-    CoverageScene scene;
     volumes::LoadOptions load;
     if (!settings.rawSpec.empty()) load.raw = volumes::parseRawSpec(settings.rawSpec);
     say("coverage: loading " + settings.volumePath);
-    scene.loaded = volumes::loadVolumeWithBricks(settings.volumePath, load);
+    return coverageSceneOf(volumes::loadVolumeWithBricks(settings.volumePath, load), settings, say);
+}
+
+CoverageScene coverageSceneOf(volumes::LoadedVolume loaded, const CoverageStudySettings& settings,
+                              const std::function<void(const std::string&)>& say) {
+    CoverageScene scene;
+    scene.loaded = std::move(loaded);
     const auto progress = [&say](const std::string& step, int done, int total) {
         say("coverage: colon [" + std::to_string(done) + '/' + std::to_string(total) + "] " + step);
     };
@@ -222,7 +255,9 @@ void writeCoverageRowPage(const CoverageStudySettings& settings, const CoverageR
                           const std::string& rendererDescription, const fs::path& folder) {
     ReviewPage page;
     page.title = "Coverage: " + row.name;
-    page.facts = {{"volume", fs::absolute(settings.volumePath).string()},
+    // A file or folder by its absolute path; a volume made in memory (Python) by its description.
+    const std::string volume = fs::exists(settings.volumePath) ? fs::absolute(settings.volumePath).string() : settings.volumePath;
+    page.facts = {{"volume", volume},
                   {"display", row.display.name},
                   {"map", conformal::mapKindName(row.display.map)},
                   {"directions", coverageDirectionsText(row.directions)},

@@ -62,9 +62,22 @@ struct CoverageScene {
 /// it is a file, holds output without `force`, or is not writable.
 void prepareCoverageFolder(const std::string& outFolder, bool force);
 
+/// Throws std::invalid_argument naming the option for settings out of range: no path, a path
+/// step, smoothing, frame count, scale, map face size, iso value, footprint, angle, patch area or
+/// picture count outside what a run can use.
+void validateCoverageStudySettings(const CoverageStudySettings& settings, int mapSize);
+
+/// The display of a row: a preset or display file, its map replaced unless `map` is empty, its
+/// walls resized so that `wallWidth` pixels span the box (0: the display's own); validated.
+Display coverageRowDisplay(const std::string& name, const std::string& map, int wallWidth);
+
 /// Loads the volume, finds the colon (cleansing it where fluid was), takes the centreline (the
 /// analysis's own for "auto") and meshes the wall at the iso value. `say` gets each step's line.
 CoverageScene prepareCoverageScene(const CoverageStudySettings& settings, const std::function<void(const std::string&)>& say);
+
+/// The same for a volume already loaded (settings.volumePath only names it).
+CoverageScene coverageSceneOf(volumes::LoadedVolume loaded, const CoverageStudySettings& settings,
+                              const std::function<void(const std::string&)>& say);
 
 /// The row's job: its display, the poses along the scene's centreline in its directions, and the
 /// settings display renders use (hits refined by bisection).

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <tuple>
 
 #include "engine/output/png_writer.h"
@@ -142,7 +144,8 @@ nlohmann::json polypResultEntries(const std::vector<PolypViewResult>& results, c
 nlohmann::json polypCheckDocument(const nlohmann::json& list, const PolypCheckSources& sources,
                                   const PolypCheckJob& job, const PolypCheckPlan& plan) {
     nlohmann::json doc;
-    doc["volume"] = fs::absolute(sources.volumePath).string();
+    // A file or folder by its absolute path; a volume made in memory (Python) by its description.
+    doc["volume"] = fs::exists(sources.volumePath) ? fs::absolute(sources.volumePath).string() : sources.volumePath;
     doc["truth"] = fs::absolute(sources.truthPath).string();
     doc["display"] = job.display.name;
     doc["walls"] = nlohmann::json::array();
@@ -251,6 +254,28 @@ std::string polypCheckWorstText(const nlohmann::json& document) {
         text << '\n';
     }
     return text.str();
+}
+
+void requirePolypCheckFolder(const std::filesystem::path& folder, bool force) {
+    namespace fs = std::filesystem;
+    if (fs::exists(folder) && !fs::is_directory(folder)) throw std::runtime_error(folder.string() + ": is not a folder");
+    const bool holdsACheck =
+        fs::exists(folder / "polyp_check.json") || fs::exists(folder / "polyp_check.md") || fs::exists(folder / "crops");
+    if (!force && holdsACheck) {
+        throw std::runtime_error(folder.string() + ": holds an earlier polyp check (use --force to replace it)");
+    }
+}
+
+void writePolypCheckFiles(const std::filesystem::path& folder, const nlohmann::json& document) {
+    std::filesystem::create_directories(folder);
+    const auto write = [](const std::filesystem::path& path, const std::string& text) {
+        std::ofstream out(path, std::ios::trunc);
+        out << text;
+        out.close();
+        if (!out) throw std::runtime_error(path.string() + ": write failed");
+    };
+    write(folder / "polyp_check.json", document.dump(1) + "\n");
+    write(folder / "polyp_check.md", polypCheckMarkdown(document["results"]));
 }
 
 }  // namespace engine

@@ -39,6 +39,13 @@ std::string polypCheckMarkdown(const nlohmann::json& entries);
 /// The document's worst aspect and circularity errors per map, one line each.
 std::string polypCheckWorstText(const nlohmann::json& document);
 
+/// Throws std::runtime_error naming `folder` when it is a file, or holds an earlier check
+/// (polyp_check.json, polyp_check.md or crops/) and `force` is false.
+void requirePolypCheckFolder(const std::filesystem::path& folder, bool force);
+
+/// Writes the document as folder/polyp_check.json and its table as folder/polyp_check.md.
+void writePolypCheckFiles(const std::filesystem::path& folder, const nlohmann::json& document);
+
 /// Reference | conformal | linear | none crops of each polyp, pose and eye side by side, one PNG
 /// each in `folder` (polyp_P_POSE_EYE.png).
 void writePolypCrops(const std::vector<PolypViewResult>& results, const std::filesystem::path& folder, int cropSize);

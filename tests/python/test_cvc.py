@@ -1,9 +1,7 @@
 """The Python module against `cvc` itself: the same requests give the same pixels, the same
-analysis and the same one-line errors. Run by CTest with PYTHONPATH=build/python, CVC_BINARY
-(the cvc program), CVC_SHARED_DATA_DIR and CVC_TEST_TMP_DIR set."""
+analysis and the same one-line errors (conftest.py: what the tests share)."""
 import json
 import os
-import subprocess
 import threading
 import time
 
@@ -11,27 +9,11 @@ import numpy
 import pytest
 
 import cvc
+from conftest import CT, TMP, run_cvc
+from nrrd_file import read_nrrd
 from png_file import read_rgba
 
-CVC = os.environ["CVC_BINARY"]
-SHARED = os.environ["CVC_SHARED_DATA_DIR"]
-TMP = os.path.join(os.environ["CVC_TEST_TMP_DIR"], "python_%d" % os.getpid())
-CT = os.path.join(SHARED, "ct", "ts_example_abdomen_3mm.nrrd")
 WALLS = ("front", "back", "left", "right", "floor")
-
-
-def run_cvc(*arguments):
-    return subprocess.run([CVC, *arguments], capture_output=True, text=True, stdin=subprocess.DEVNULL)
-
-
-@pytest.fixture(scope="module")
-def phantom():
-    """The default colon phantom and its ground truth, made by `cvc phantom`."""
-    os.makedirs(TMP, exist_ok=True)
-    volume = os.path.join(TMP, "colon.nrrd")
-    made = run_cvc("phantom", "--force", "-o", volume)
-    assert made.returncode == 0, made.stderr
-    return volume
 
 
 def test_a_volume_from_numpy_keeps_its_voxels_and_geometry():
@@ -63,25 +45,10 @@ def test_bad_arrays_and_files_give_the_one_line_errors_of_cvc():
     assert printed.stderr.strip() == "cvc: error: " + str(raised.value)
 
 
-def read_raw_nrrd(path):
-    """The header fields and int16 voxels, (z, y, x), of a raw little-endian NRRD, read here."""
-    with open(path, "rb") as f:
-        data = f.read()
-    end = data.index(b"\n\n")
-    fields = {}
-    for line in data[:end].decode().splitlines()[1:]:
-        if ":" in line and not line.startswith("#"):
-            key, value = line.split(":", 1)
-            fields[key.strip()] = value.strip()
-    assert fields["type"] == "short" and fields["encoding"] == "raw" and fields["endian"] == "little"
-    x, y, z = (int(n) for n in fields["sizes"].split())
-    voxels = numpy.frombuffer(data[end + 2:], dtype="<i2", count=x * y * z).reshape(z, y, x)
-    return fields, voxels
-
-
 def test_load_reads_the_shared_ct_voxel_for_voxel():
     volume = cvc.load(CT)
-    fields, voxels = read_raw_nrrd(CT)
+    fields, _, voxels = read_nrrd(CT)
+    assert fields["type"] == "short" and fields["encoding"] == "raw"
     assert volume.shape == voxels.shape
     assert numpy.array_equal(volume.array, voxels)
     directions = [[float(n) for n in column.strip("()").split(",")] for column in fields["space directions"].split()]
