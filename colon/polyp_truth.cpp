@@ -1,5 +1,6 @@
 #include "colon/polyp_truth.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -87,6 +88,27 @@ bool firstPolypHit(const PolypSurface& polyp, const glm::dvec3& originMm, const 
     if (along <= 0.0 || missSquared > radius * radius) return false;
     hitMm = originMm + (along - std::sqrt(radius * radius - missSquared)) * direction;
     return !polyp.isSessile || glm::dot(hitMm - polyp.baseMm, polyp.baseNormal) >= 0.0;
+}
+
+namespace {
+constexpr double kRimShareOfCap = 0.25;
+}  // namespace
+
+double hiddenInFrontMarginMm(double toleranceMm) { return std::max(1.0, 2.0 * toleranceMm); }
+
+bool isHiddenInFront(const PolypSurface& polyp, const glm::dvec3& originMm, const glm::dvec3& direction,
+                     const glm::dvec3& hitMm, double toleranceMm) {
+    glm::dvec3 ownHitMm;
+    if (!firstPolypHit(polyp, originMm, direction, ownHitMm)) return false;
+    if (polyp.isSessile) {
+        // The lowest quarter of the cap is its rim, which a wall curving up around the base
+        // hides from grazing rays on every polyp alike; a fold in front hides more than that.
+        const double capHeight = polyp.sphereRadius() + glm::dot(polyp.centreMm - polyp.baseMm, polyp.baseNormal);
+        if (glm::dot(ownHitMm - polyp.baseMm, polyp.baseNormal) < kRimShareOfCap * capHeight) return false;
+    }
+    const double ownDistance = glm::dot(ownHitMm - originMm, direction);
+    const double hitDistance = glm::dot(hitMm - originMm, direction);
+    return hitDistance < ownDistance - hiddenInFrontMarginMm(toleranceMm);
 }
 
 bool isOnPolyp(const PolypSurface& polyp, const glm::dvec3& pointMm, double toleranceMm) {

@@ -45,4 +45,17 @@ glm::dvec3 polypAimPointOf(const PolypSurface& polyp);
 /// hides the sphere), with nothing else in the way; nothing (false) where it does not.
 bool firstPolypHit(const PolypSurface& polyp, const glm::dvec3& originMm, const glm::dvec3& direction, glm::dvec3& hitMm);
 
+/// How much nearer the eye than the polyp's own surface a first hit must lie to be something in
+/// front of the polyp (a fold, a bend of the wall) rather than its rim: where a polyp meets the
+/// wall the rendered surface rounds off within a voxel or so of its sphere, and the hit within
+/// `toleranceMm` of it (polypToleranceMm). 1 mm, or twice the tolerance on coarser scans.
+double hiddenInFrontMarginMm(double toleranceMm);
+
+/// Whether the ray from `originMm` along the unit `direction` would meet the polyp's own surface
+/// (firstPolypHit) above the lowest quarter of a sessile or flat polyp's cap (its rim, which the
+/// wall curving up around the base hides from grazing rays) while its first hit `hitMm` lies more
+/// than hiddenInFrontMarginMm nearer the eye: something in front of the polyp hides it there.
+bool isHiddenInFront(const PolypSurface& polyp, const glm::dvec3& originMm, const glm::dvec3& direction,
+                     const glm::dvec3& hitMm, double toleranceMm);
+
 }  // namespace colon

@@ -109,6 +109,9 @@ struct PolypViewResult {
     /// The reference's polyp pixels against those the polyp's own outline would cover with
     /// nothing in the way: below 0.9 a fold or a bend hides part of it (occluded).
     double referenceUnoccludedShare = 0.0;
+    /// The share of those that something in front of the polyp hides in the reference (a fold's
+    /// edge, a bend of the wall; colon::isHiddenInFront): above half a percent it counts as occluded.
+    double referenceHiddenInFrontShare = 0.0;
     double visibleFraction = 1.0;  ///< no map: the share of the reference's area the view shows
     bool isVisible = false;        ///< enough pixels (colon::kMinPolypPixels), and 95 % of it shown
     double aspectError = 0.0;      ///< |view - reference| / reference
@@ -121,8 +124,8 @@ struct PolypViewResult {
     /// again, its aspect error through the exact warp; and, where the aspect error is more than
     /// a point from the prediction, the term responsible: "warp" (this warp against the exact
     /// one), "eye" (the stereo eye against the centre), "occlusion" (a fold or a bend hides part
-    /// of the polyp: referenceUnoccludedShare below 0.9), "pixels" (the view's narrow axis is
-    /// under 25 pixels), or "outline" (the rest: the outline the rendered polyp shows is not the
+    /// of the polyp: referenceUnoccludedShare below 0.9, or referenceHiddenInFrontShare above
+    /// 0.005), "pixels" (the view's narrow axis is under 25 pixels), or "outline" (the rest: the outline the rendered polyp shows is not the
     /// ground truth's the prediction takes, as where a flat polyp's rim merges into a fold; twice
     /// the wall resolution leaves such a result where it was).
     PredictedErrors predicted, predictedCircle, predictedFloor;

@@ -117,6 +117,7 @@ nlohmann::json polypResultEntries(const std::vector<PolypViewResult>& results, c
                         {"pixels_across", r.view.pixelsAcross},
                         {"reference_pixels", r.reference.pixels},
                         {"reference_unoccluded_share", r.referenceUnoccludedShare},
+                        {"reference_hidden_in_front_share", r.referenceHiddenInFrontShare},
                         {"aspect", r.view.aspect},
                         {"reference_aspect", r.reference.aspect},
                         {"orientation_deg", r.view.orientationDeg},

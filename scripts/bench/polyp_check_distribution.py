@@ -40,6 +40,13 @@ def within_targets(r):
             and number(r["grid_angle_error_deg"]) <= GRID_TARGET_DEG)
 
 
+def is_occluded(r):
+    """Whether a fold or a bend hides part of the polyp in its reference, as polyp-check's budget
+    counts it: a tenth of its outline unseen, or over half a percent hidden by something in front
+    ("reference_hidden_in_front_share", absent from runs before it was recorded)."""
+    return r["reference_unoccluded_share"] < 0.9 or r.get("reference_hidden_in_front_share", 0.0) > 0.005
+
+
 def load(run_dirs):
     """The results of every run, each with its run folder and its polyp's kind from the truth
     ("sessile", "pedunculated" or "flat", "/fold" added for one on a fold; "?" without a truth)."""
@@ -133,8 +140,8 @@ def main():
                 continue
             if not r["visible"]:
                 kinds["not in view (no place on the path shows the polyp, or too few pixels)"] += 1
-            elif r["reference_unoccluded_share"] < 0.9:
-                kinds["occluded (a fold or bend hides a tenth of its outline)"] += 1
+            elif is_occluded(r):
+                kinds["occluded (a fold or bend hides a tenth of its outline, or its edge lies across it)"] += 1
             elif r["reference_unoccluded_share"] < 0.95:
                 kinds["partly hidden (5-10 % of its outline unseen: a fold's edge, or the rim's rounding)"] += 1
             elif r["eye"] != "centre" and (r["run"], r["polyp"], r["pose"]) in centre_passed:
@@ -183,8 +190,7 @@ def main():
     say("")
 
     # Measured against predicted, unoccluded polyps.
-    unoccluded = [r for r in conformal if r["visible"] and r["reference_unoccluded_share"] >= 0.9
-                  and r["predicted"]["found"]]
+    unoccluded = [r for r in conformal if r["visible"] and not is_occluded(r) and r["predicted"]["found"]]
     for eye in EYES:
         rs = [r for r in unoccluded if r["eye"] == eye]
         gaps = [abs(number(r["aspect_error"]) - number(r["predicted"]["aspect_error"])) for r in rs]
@@ -197,8 +203,9 @@ def main():
             f"{100 * max(gaps) if gaps else float('nan'):.1f}; within a point of the circle's prediction in "
             f"{circle_within}); apart because: "
             f"{', '.join(f'{k} {v}' for k, v in causes.most_common()) or 'none'}.")
-    occluded = [r for r in conformal if r["reference_unoccluded_share"] < 0.9]
-    say(f"- occluded (a fold or bend hides more than a tenth of the polyp's outline): {len(occluded)} of "
+    occluded = [r for r in conformal if is_occluded(r)]
+    say(f"- occluded (a fold or bend hides more than a tenth of the polyp's outline, or something in front of it "
+        f"more than half a percent): {len(occluded)} of "
         f"{len(conformal)} targeted conformal results.")
     say("")
     if worst_conformal is not None:

@@ -46,6 +46,40 @@ TEST(PolypTruth, FlatCapIsThePolypAndTheWallIsNot) {
     EXPECT_FALSE(colon::isOnPolyp(asHalfDiameter, glm::dvec3(0.0, 0.0, 2.0), 0.1));
 }
 
+TEST(PolypTruth, AHitWellBeforeThePolypsOwnSurfaceHidesItTheRimDoesNot) {
+    // A 6 mm hemisphere on the plane z = 0, seen straight down from 20 mm above its centre.
+    colon::PolypSurface sessile;
+    sessile.diameterMm = 6.0;
+    sessile.baseNormal = glm::dvec3(0.0, 0.0, 1.0);
+    const glm::dvec3 eye(0.0, 0.0, 20.0);
+    const glm::dvec3 down(0.0, 0.0, -1.0);
+    const double tolerance = 0.25;
+    ASSERT_DOUBLE_EQ(colon::hiddenInFrontMarginMm(tolerance), 1.0);
+    ASSERT_DOUBLE_EQ(colon::hiddenInFrontMarginMm(0.85), 1.7);  // a 3 mm scan's tolerance
+    // Its own top (z = 3) and a hit just above it, within the margin: not hidden.
+    EXPECT_FALSE(colon::isHiddenInFront(sessile, eye, down, glm::dvec3(0.0, 0.0, 3.0), tolerance));
+    EXPECT_FALSE(colon::isHiddenInFront(sessile, eye, down, glm::dvec3(0.0, 0.0, 3.9), tolerance));
+    // A fold 4 mm above its top: hidden.
+    EXPECT_TRUE(colon::isHiddenInFront(sessile, eye, down, glm::dvec3(0.0, 0.0, 7.0), tolerance));
+    // Beside the polyp the ray never meets it: nothing there to hide, whatever it hits.
+    const glm::dvec3 besideEye(5.0, 0.0, 20.0);
+    EXPECT_FALSE(colon::isHiddenInFront(sessile, besideEye, down, glm::dvec3(5.0, 0.0, 7.0), tolerance));
+    // Seen at a grazing angle, the lowest quarter of the cap (here below z = 0.75) is its rim,
+    // which a wall curving up around the base hides on every polyp: never counted. Higher up
+    // the same side, within the margin is the polyp's own rounding, farther in front a fold.
+    const glm::dvec3 grazing = glm::normalize(glm::dvec3(1.0, 0.0, -0.2));
+    for (const double height : {0.3, 2.0}) {
+        const glm::dvec3 onSurface(-std::sqrt(9.0 - height * height), 0.0, height);
+        const glm::dvec3 grazingEye = onSurface - 20.0 * grazing;
+        glm::dvec3 ownHit;
+        ASSERT_TRUE(colon::firstPolypHit(sessile, grazingEye, grazing, ownHit));
+        ASSERT_NEAR(glm::length(ownHit - onSurface), 0.0, 1e-9);
+        EXPECT_FALSE(colon::isHiddenInFront(sessile, grazingEye, grazing, ownHit - 0.6 * grazing, tolerance));
+        EXPECT_EQ(colon::isHiddenInFront(sessile, grazingEye, grazing, ownHit - 5.0 * grazing, tolerance), height > 0.75)
+            << "at height " << height;
+    }
+}
+
 TEST(PolypTruth, ReadsFlatPolypsAndTruthWithoutTheNewFields) {
     const std::string path = writeTruth(
         "polyp_truth_kinds.json",
