@@ -159,7 +159,7 @@ TEST(CvcMpiPolypCheck, TwoRanksWriteWhatOneProcessWrites) {
     const Fixture& f = fixture();
     const auto arguments = [&](const fs::path& out) {
         return "polyp-check " + f.volume.string() + " --truth " + f.truth.string() +
-               " --polyps 2 3 --wall-size 280x210 --map-size 64 --force -o " + out.string();
+               " --polyps 2 3 --poses wall,ceiling_50 --wall-size 280x210 --map-size 64 --force -o " + out.string();
     };
     const fs::path single = testing_support::processTmp("mpi_polyps_single");
     const fs::path shared = testing_support::processTmp("mpi_polyps_shared");
