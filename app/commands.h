@@ -17,5 +17,6 @@ void addPolypCheckCommand(CLI::App& program);
 void addInsertPolypCommand(CLI::App& program);
 void addMeasureCommand(CLI::App& program);
 void addCoverageCommand(CLI::App& program);
+void addCandidatesCommand(CLI::App& program);
 
 }  // namespace app

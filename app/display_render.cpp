@@ -29,6 +29,7 @@
 #include "engine/sequence/frame_sequence.h"
 #include "engine/sequence/sequence_dicom.h"
 #include "engine/sequence/sequence_review_page.h"
+#include "engine/studies/candidate_study.h"
 #include "volumes/load_volume.h"
 
 namespace app {
@@ -53,7 +54,7 @@ private:
     void (*mPrevious)(int);
 };
 
-/// The poses asked for: beneath a polyp, along a path, or the one given by --position.
+/// The poses asked for: toward a polyp or each candidate, along a path, or the one of --position.
 std::vector<engine::CameraPose> posesFrom(const RenderOptions& options) {
     engine::PoseRequest request;
     request.pathFile = options.pathFile;
@@ -62,6 +63,7 @@ std::vector<engine::CameraPose> posesFrom(const RenderOptions& options) {
     request.path.direction = options.isRetrograde ? engine::Direction::Retrograde : engine::Direction::Antegrade;
     request.maxFrames = options.maxFrames;
     request.polyp = options.polyp;
+    if (options.isAtCandidates) request.candidatesFile = options.candidatesFile;
     request.polypElevationDeg = options.polypElevationDeg;
     request.polypAzimuthDeg = options.polypAzimuthDeg;
     if (!options.positionMm.empty()) request.positionMm = vec3From(options.positionMm, "--position");
@@ -178,6 +180,11 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     if (isAutomaticPath) output.companions = {"colon"};
     engine::checkSequenceOutput(job, output);  // before the volume loads: a refusal comes at once
     if (!options.dicomOut.empty()) checkDicomOutput(options.dicomOut, options.force);
+    std::vector<engine::ReviewCandidate> candidates;  // --candidates: listed, and ringed on the frames rendered here
+    if (!options.candidatesFile.empty()) {
+        candidates = engine::reviewCandidatesOf(options.candidatesFile, options.outPath, static_cast<int>(job.poses.size()),
+                                                options.isAtCandidates ? 0.0 : options.pathStepMm);
+    }
 
     volumes::LoadOptions load;
     if (!options.rawSpec.empty()) load.raw = volumes::parseRawSpec(options.rawSpec);
@@ -238,6 +245,10 @@ void runDisplayRender(const RenderOptions& givenOptions) {
                                             static_cast<int>(job.poses.size())));
         };
     }
+    if (!options.candidatesFile.empty()) {
+        job.isComputingHits = true;
+        hooks.onFrame = [&](int frame, const auto& walls) { engine::ringCandidatesOnFrame(candidates, frame, display, walls); };
+    }
     engine::SequenceSummary summary;
     try {
         summary = engine::renderSequence(raycaster, job, output, hooks, share);
@@ -248,7 +259,9 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     if (progress) progress->finish();
     if (mpi.rank() != 0) return;  // rank 0 writes the page and speaks for the job
     // After the sequence, so that a resumed run's page covers the frames kept and the new ones.
-    engine::writeReviewPage(options.outPath, engine::reviewPageOfSequence(job, &loaded.volume));
+    engine::ReviewPage page = engine::reviewPageOfSequence(job, &loaded.volume);
+    page.candidates = std::move(candidates);
+    engine::writeReviewPage(options.outPath, page);
     if (!options.dicomOut.empty()) {
         // The source's identifiers: the folder given, not the cleansed NRRD that --path auto renders.
         const engine::SequenceDicomSummary dicom = engine::writeSequenceDicom(

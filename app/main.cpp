@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
     app::addInsertPolypCommand(program);
     app::addMeasureCommand(program);
     app::addCoverageCommand(program);
+    app::addCandidatesCommand(program);
 
     try {
         // Only the display render, coverage and the polyp check share their work between

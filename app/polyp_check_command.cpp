@@ -36,6 +36,7 @@ struct PolypCheckOptions {
     std::string volumePath;
     std::string rawSpec;
     engine::PolypCheckRequest request;
+    std::string candidatesPath;  // --candidates: read as the truth
     std::string outFolder;
     std::string jsonPath;
     std::string wallSize;  // empty: the display's own
@@ -92,9 +93,13 @@ void addPolypCheckCommand(CLI::App& program) {
         "polyp-check", "Check that polyps keep their shape through the display's map: each seen on a wall, at the "
                        "ceiling's edge, on the ceiling and toward a corner, against a pinhole reference");
     addVolumeOptions(*command, options->volumePath, options->rawSpec);
-    command->add_option("--truth", options->request.truthPath,
-                        "Ground truth with polyps and a centreline (cvc phantom's JSON, or cvc insert-polyp's)")
-        ->required();
+    auto* truth = command->add_option("--truth", options->request.truthPath,
+                                      "Ground truth with polyps and a centreline (cvc phantom's JSON, or cvc insert-polyp's)");
+    auto* candidates = command->add_option("--candidates", options->candidatesPath,
+                                           "Instead of --truth: cvc candidates' candidates.json (its path too), each "
+                                           "candidate checked as a cap of its measured size");
+    truth->excludes(candidates);
+    candidates->excludes(truth);
     command->add_option("--polyps", options->request.polyps, "Polyps to check, by index in the truth (default: all)")
         ->delimiter(',');
     command->add_option("--poses", options->request.poses,
@@ -122,7 +127,16 @@ void addPolypCheckCommand(CLI::App& program) {
                      "Also write the results' JSON to this file", options->force,
                      "Replace an earlier check in the output folder");
     addDeviceOption(*command, options->device);
-    command->callback([options] { runPolypCheck(*options); });
+    command->callback([options] {
+        if (options->request.truthPath.empty() == options->candidatesPath.empty()) {
+            throw std::invalid_argument("polyp-check needs --truth or --candidates");
+        }
+        if (!options->candidatesPath.empty()) {
+            options->request.truthPath = options->candidatesPath;
+            options->request.isCandidateList = true;
+        }
+        runPolypCheck(*options);
+    });
 }
 
 }  // namespace app

@@ -82,7 +82,7 @@ void refuseOptionsNotApplying(const CLI::App& command, const RenderOptions& opti
         refuseGivenOptions(command,
                            {"--map", "--map-size", "--cube-map", "--warp", "--scale", "--before-after", "--path",
                             "--path-step", "--smoothing", "--retrograde", "--frames", "--distribute", "--polyp",
-                            "--polyp-elevation", "--polyp-azimuth", "--resume"},
+                            "--candidates", "--at-candidates", "--polyp-elevation", "--polyp-azimuth", "--resume"},
                            "is for display renders (--display); a pinhole view is one image from one camera");
     } else {
         refuseGivenOptions(command, {"--fov", "--size"},
@@ -90,17 +90,21 @@ void refuseOptionsNotApplying(const CLI::App& command, const RenderOptions& opti
         refuseGivenOptions(command, {"--stats"}, "counts the fetches of a pinhole view; it is not for --display");
         if (options.pathFile.empty()) {
             refuseGivenOptions(command,
-                               {"--path-step", "--smoothing", "--retrograde", "--frames", "--polyp", "--polyp-elevation",
-                                "--polyp-azimuth"},
+                               {"--path-step", "--smoothing", "--retrograde", "--frames", "--polyp", "--candidates",
+                                "--at-candidates", "--polyp-elevation", "--polyp-azimuth"},
                                "needs --path: without it the display renders the one pose of --position");
         } else {
             refuseGivenOptions(command, {"--position", "--look-at", "--up"},
                                "sets a single pose; with --path the poses follow the centreline");
         }
+        if (options.candidatesFile.empty()) refuseGivenOptions(command, {"--at-candidates"}, "needs --candidates");
         if (options.polyp >= 0) {
             refuseGivenOptions(command, {"--frames"}, "counts the frames of a fly-through; --polyp renders one pose");
+            refuseGivenOptions(command, {"--at-candidates"}, "poses a frame per candidate; --polyp renders one pose");
+        } else if (options.isAtCandidates) {
+            refuseGivenOptions(command, {"--frames"}, "counts the frames of a fly-through; --at-candidates renders one per candidate");
         } else {
-            refuseGivenOptions(command, {"--polyp-elevation", "--polyp-azimuth"}, "needs --polyp");
+            refuseGivenOptions(command, {"--polyp-elevation", "--polyp-azimuth"}, "needs --polyp or --at-candidates");
         }
         if (!options.cubeMapFile.empty()) {
             refuseGivenOptions(command, {"--map-size"}, "is the bake's size; the file of --cube-map has its own");
@@ -193,6 +197,12 @@ void addRenderCommand(CLI::App& program) {
     command->add_option("--polyp", options->polyp,
                         "One pose on the path from which polyp N of its ground truth is seen ahead and above")
         ->check(CLI::NonNegativeNumber)->group(display);
+    command->add_option("--candidates", options->candidatesFile,
+                        "cvc candidates' candidates.json (the same --path-step): the review page lists and rings them")
+        ->group(display);
+    command->add_flag("--at-candidates", options->isAtCandidates,
+                      "With --candidates: a frame per candidate (frame N: candidate N + 1), each seen as --polyp is")
+        ->group(display);
     command->add_option("--polyp-elevation", options->polypElevationDeg,
                         "Degrees above the horizon ahead at which --polyp is seen (above ~37: on the IC's ceiling; "
                         "past 90: over the head and behind, past ~135 on cave4's missing back wall)")

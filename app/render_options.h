@@ -46,6 +46,8 @@ struct RenderOptions {
     // Several processes (mpirun): how the frames x eyes x walls are split
     std::string distribution = "frames";
     int polyp = -1;     // >= 0: one pose viewing this polyp of the path's ground truth
+    std::string candidatesFile;  // cvc candidates' JSON: listed and ringed on the review page
+    bool isAtCandidates = false; // ... and one pose viewing each of them instead of the fly-through
     double polypElevationDeg = 60.0;  // ... seen ahead at this elevation (on the IC's ceiling)
     double polypAzimuthDeg = 0.0;     // ... that many degrees right of straight up
     // Rendering

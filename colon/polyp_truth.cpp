@@ -22,17 +22,21 @@ glm::dvec3 vec3Field(const nlohmann::json& polyp, const char* name, const std::s
     return v;
 }
 
-}  // namespace
-
-std::vector<PolypSurface> readPolypTruth(const std::string& path) {
+/// The JSON document in `path`; `what` names it when it cannot be opened.
+nlohmann::json jsonFile(const std::string& path, const std::string& what) {
     std::ifstream in(path);
-    if (!in) throw ColonError(path + ": cannot open the ground truth");
-    nlohmann::json document;
+    if (!in) throw ColonError(path + ": cannot open " + what);
     try {
-        document = nlohmann::json::parse(in);
+        return nlohmann::json::parse(in);
     } catch (const nlohmann::json::exception& e) {
         throw ColonError(path + ": not valid JSON (" + e.what() + ")");
     }
+}
+
+}  // namespace
+
+std::vector<PolypSurface> readPolypTruth(const std::string& path) {
+    const nlohmann::json document = jsonFile(path, "the ground truth");
     if (!document.is_object() || !document.contains("polyps") || !document["polyps"].is_array()) {
         throw ColonError(path + ": no \"polyps\" list (expected a phantom's or cvc insert-polyp's ground truth)");
     }
@@ -69,6 +73,49 @@ std::vector<PolypSurface> readPolypTruth(const std::string& path) {
         const glm::dvec3 normal = vec3Field(entry, "base_normal", where);
         if (!(glm::length(normal) > 1e-6)) throw ColonError(where + ": \"base_normal\" is zero");
         polyp.baseNormal = glm::normalize(normal);
+        polyps.push_back(polyp);
+    }
+    return polyps;
+}
+
+std::vector<PolypSurface> readCandidatesAsPolyps(const std::string& path) {
+    const nlohmann::json document = jsonFile(path, "the candidate list");
+    if (!document.is_object() || !document.contains("candidates") || !document["candidates"].is_array() ||
+        document["candidates"].empty()) {
+        throw ColonError(path + ": no \"candidates\" list, or an empty one (expected cvc candidates' candidates.json)");
+    }
+    std::vector<PolypSurface> polyps;
+    for (const auto& entry : document["candidates"]) {
+        const std::string where = path + ": candidate " + std::to_string(polyps.size() + 1);
+        if (!entry.is_object()) throw ColonError(where + " is not an object");
+        const auto number = [&](const char* name) {
+            const auto it = entry.find(name);
+            if (it == entry.end() || !it->is_number() || !std::isfinite(it->get<double>())) {
+                throw ColonError(where + ": \"" + name + "\" is not a number");
+            }
+            return it->get<double>();
+        };
+        PolypSurface polyp;
+        polyp.diameterMm = number("diameter_mm");
+        if (!(polyp.diameterMm > 0.0)) throw ColonError(where + ": \"diameter_mm\" must be positive");
+        const glm::dvec3 apex = vec3Field(entry, "centre_mm", where);
+        const glm::dvec3 normal = vec3Field(entry, "normal", where);
+        if (!(glm::length(normal) > 1e-6)) throw ColonError(where + ": \"normal\" is zero");
+        polyp.baseNormal = glm::normalize(normal);
+        const double halfDiameter = 0.5 * polyp.diameterMm;
+        const double fitted = entry.contains("sphere_radius_mm") ? number("sphere_radius_mm") : 0.0;
+        if (fitted > halfDiameter) {
+            // A cap of the fitted sphere, as wide as measured: its base circle lies the cap's
+            // height below the apex, the sphere's centre its radius below.
+            const double capHeight = fitted - std::sqrt(fitted * fitted - halfDiameter * halfDiameter);
+            polyp.sphereRadiusMm = fitted;
+            polyp.centreMm = apex - fitted * polyp.baseNormal;
+            polyp.baseMm = apex - capHeight * polyp.baseNormal;
+        } else {
+            polyp.centreMm = polyp.baseMm = apex - halfDiameter * polyp.baseNormal;
+        }
+        polyp.isSessile = true;
+        polyp.isFlat = polyp.sphereRadiusMm > halfDiameter;
         polyps.push_back(polyp);
     }
     return polyps;

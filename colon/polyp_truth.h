@@ -31,6 +31,16 @@ struct PolypSurface {
 /// missing file, a missing or malformed field, or a polyp of non-positive size.
 std::vector<PolypSurface> readPolypTruth(const std::string& path);
 
+/// The candidates of `cvc candidates`' candidates.json as polyps to check, best first: each a
+/// sessile cap below its apex ("centre_mm") along its normal, as wide as its measured diameter,
+/// of the radius of the sphere its measurement fitted ("sphere_radius_mm"; the cap's base circle
+/// lies where a sphere of that radius through the apex is that wide);
+/// a candidate without a fitted sphere, or one whose sphere is narrower than its diameter (a
+/// head seen from above), is the hemisphere of its diameter below its apex. Throws ColonError
+/// naming the file and the candidate for a missing file, a missing or malformed field, or an
+/// empty list.
+std::vector<PolypSurface> readCandidatesAsPolyps(const std::string& path);
+
 /// Whether a surface point in volume millimetres lies on the polyp: on its sphere (the head of
 /// a pedunculated polyp; the stalk and the wall are not the polyp) within `toleranceMm`, and for
 /// a sessile or flat polyp above the wall plane.

@@ -67,21 +67,6 @@ std::optional<glm::dvec3> axisDifference(const HitImage& image, int x, int y, in
     return std::nullopt;
 }
 
-/// The surface normal at a hit pixel, facing the viewer (cross product of the row-down and
-/// column-right differences: an image that is not mirrored, as every cvc render); nothing where
-/// it cannot be estimated.
-std::optional<glm::dvec3> normalAt(const HitImage& image, int x, int y) {
-    const double l = footprint(image, x, y);
-    if (!(l > 0.0)) return std::nullopt;
-    const auto right = axisDifference(image, x, y, 0, l);
-    const auto down = axisDifference(image, x, y, 1, l);
-    if (!right || !down) return std::nullopt;
-    const glm::dvec3 n = glm::cross(*down, *right);
-    const double length = glm::length(n);
-    if (!(length > 0.0)) return std::nullopt;
-    return n / length;
-}
-
 struct Sphere {
     glm::dvec3 centre;
     double radius;
@@ -129,6 +114,18 @@ constexpr int kNeighbours[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
 
 }  // namespace
 
+std::optional<glm::dvec3> hitNormalAt(const HitImage& image, int x, int y) {
+    const double l = footprint(image, x, y);
+    if (!(l > 0.0)) return std::nullopt;
+    const auto right = axisDifference(image, x, y, 0, l);
+    const auto down = axisDifference(image, x, y, 1, l);
+    if (!right || !down) return std::nullopt;
+    const glm::dvec3 n = glm::cross(*down, *right);
+    const double length = glm::length(n);
+    if (!(length > 0.0)) return std::nullopt;
+    return n / length;
+}
+
 double surfaceDistanceMm(const HitImage& image, int x0, int y0, int x1, int y1) {
     const glm::dvec3& a = requireHit(image, x0, y0);
     const glm::dvec3& b = requireHit(image, x1, y1);
@@ -145,7 +142,7 @@ PatchDiameter polypDiameter(const HitImage& image, int x, int y) {
     auto tangentRule = [&](int qx, int qy) {
         const std::size_t i = image.index(qx, qy);
         if (normalState[i] == 0) {
-            const auto n = normalAt(image, qx, qy);
+            const auto n = hitNormalAt(image, qx, qy);
             normalState[i] = n ? 1 : 2;
             if (n) normals[i] = *n;
         }

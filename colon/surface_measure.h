@@ -36,6 +36,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 
 #include "colon/hit_image.h"
 
@@ -60,6 +61,12 @@ struct PatchDiameter {
     double sphereRadiusMm = 0.0;           ///< radius of the sphere fitted to the patch (0: no fit)
     glm::dvec3 sphereCentreMm{0.0};
 };
+
+/// The surface normal at a hit pixel, facing the viewer: the cross product of the row-down and
+/// column-right differences of the hits (central where both neighbours are continuous with the
+/// pixel, else the continuous side's; an image that is not mirrored, as every cvc render).
+/// Nothing where it cannot be estimated (an isolated hit, no continuous neighbour on an axis).
+std::optional<glm::dvec3> hitNormalAt(const HitImage& image, int x, int y);
 
 /// The largest diameter of the protruding patch around pixel (x, y) by the rule above. Throws
 /// ColonError for a seed outside the image or on a miss, and for a patch of fewer than 3 pixels.

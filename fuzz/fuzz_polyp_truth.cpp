@@ -1,5 +1,6 @@
-/// @brief libFuzzer target: the polyps of a ground-truth JSON (`cvc polyp-check --truth`), and
-/// the surface test each polyp pixel goes through.
+/// @brief libFuzzer target: the polyps of a ground-truth JSON (`cvc polyp-check --truth`) and of
+/// a candidate list read as polyps (`--candidates`), and the surface test each polyp pixel goes
+/// through.
 #include <cstddef>
 #include <cstdint>
 
@@ -15,6 +16,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
         }
     } catch (const colon::ColonError&) {
         // Rejecting a bad truth with a ColonError is the expected outcome.
+    }
+    try {
+        for (const colon::PolypSurface& polyp : colon::readCandidatesAsPolyps(path)) {
+            colon::isOnPolyp(polyp, polyp.centreMm + glm::dvec3(0.5 * polyp.diameterMm, 0.0, 0.0), 0.1);
+        }
+    } catch (const colon::ColonError&) {
+        // So is rejecting a bad candidate list.
     }
     return 0;
 }

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/review/review_sheet.h"
 #include "engine/review/review_volume.h"
 #include "index_html.h"
 #include "review_page_css.h"
@@ -50,6 +51,24 @@ json coverageJson(const ReviewCoverage& coverage) {
             {"description", coverage.description},
             {"cumulative_percent", coverage.cumulativePercent},
             {"patches", patches}};
+}
+
+json candidatesJson(const std::vector<ReviewCandidate>& list) {
+    const auto ring = [](const std::optional<SheetRing>& r) {
+        return r ? json{{"x", r->x}, {"y", r->y}, {"radius", r->radius}} : json(nullptr);
+    };
+    json candidates = json::array();
+    for (const ReviewCandidate& c : list) {
+        candidates.push_back({{"rank", c.rank},
+                              {"diameter_mm", c.diameterMm},
+                              {"score", c.score},
+                              {"shape_index", c.shapeIndex},
+                              {"centre_mm", vectorJson(c.centreMm)},
+                              {"frame", c.frame},
+                              {"picture", c.picture},
+                              {"ring", {{"left", ring(c.leftRing)}, {"right", ring(c.rightRing)}}}});
+    }
+    return candidates;
 }
 
 json volumeJson(const ReviewVolume& volume) {
@@ -134,6 +153,10 @@ json dataJson(const ReviewPage& page) {
                  {"path_length_mm", arcMm},
                  {"coverage", page.coverage ? coverageJson(*page.coverage) : json(nullptr)},
                  {"measurements", labelledJson(page.measurements)}};
+    if (!page.candidates.empty()) {  // only then: the pages without candidates stay as they were
+        data["candidates"] = candidatesJson(page.candidates);
+        data["sheet_gap_px"] = kSheetGapPixels;
+    }
     return data;
 }
 

@@ -51,6 +51,24 @@ struct ReviewCoverage {
     std::string description;                 // how coverage was measured, one paragraph
 };
 
+/// Where a candidate lies on its frame's review sheet, in one eye: the centre and the radius as
+/// fractions of one cross of the sheet (x and the radius of its width, y of its height).
+struct SheetRing {
+    double x = 0.0, y = 0.0, radius = 0.0;
+};
+
+/// A polyp candidate (`cvc candidates`) and the frame that shows it.
+struct ReviewCandidate {
+    int rank = 0;
+    double diameterMm = 0.0;
+    double score = 0.0;
+    double shapeIndex = 0.0;
+    glm::dvec3 centreMm{0.0};
+    int frame = -1;          // a ReviewFrame::index, or -1
+    std::string picture;     // relative to the page's folder; may be empty
+    std::optional<SheetRing> leftRing, rightRing;  // where the frame's walls show it, per eye
+};
+
 struct ReviewPage {
     std::string title;
     std::vector<std::pair<std::string, std::string>> facts;  // label, value: display, map, volume, renderer...
@@ -61,6 +79,7 @@ struct ReviewPage {
                                "cross, floor below the front wall)";
     std::optional<ReviewCoverage> coverage;
     std::vector<std::pair<std::string, std::string>> measurements;  // label, value
+    std::vector<ReviewCandidate> candidates;  // best first; none: the page has no candidates section
 };
 
 /// The files writeReviewPage writes, without the folder.

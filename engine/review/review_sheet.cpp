@@ -81,7 +81,7 @@ RgbaImage anaglyphOf(const RgbaImage& left, const RgbaImage& right) {
     return out;
 }
 
-RgbaImage crossLayout(const Display& display, const std::map<WallName, RgbaImage>& walls) {
+CrossGeometry crossGeometry(const Display& display) {
     // Cell sizes: each wall at its own pixel size; missing walls take their neighbours' sizes
     // so the cross keeps its shape.
     const auto sizeOf = [&](WallName name, int fallbackWidth, int fallbackHeight) {
@@ -95,22 +95,31 @@ RgbaImage crossLayout(const Display& display, const std::map<WallName, RgbaImage
     const auto [floorW, floorH] = sizeOf(WallName::Floor, frontW, frontW);
     const auto [ceilingW, ceilingH] = sizeOf(WallName::Ceiling, floorW, floorH);
     const int rowHeight = std::max({frontH, leftH, rightH, backH});
-    RgbaImage cross = filledImage(leftW + frontW + rightW + backW, ceilingH + rowHeight + floorH, 0, 0, 0);
+    CrossGeometry geometry;
+    geometry.width = leftW + frontW + rightW + backW;
+    geometry.height = ceilingH + rowHeight + floorH;
+    geometry.cells[WallName::Ceiling] = {leftW + (frontW - ceilingW) / 2, 0, ceilingW, ceilingH};
+    geometry.cells[WallName::Left] = {0, ceilingH, leftW, leftH};
+    geometry.cells[WallName::Front] = {leftW, ceilingH, frontW, frontH};
+    geometry.cells[WallName::Right] = {leftW + frontW, ceilingH, rightW, rightH};
+    geometry.cells[WallName::Back] = {leftW + frontW + rightW, ceilingH, backW, backH};
+    geometry.cells[WallName::Floor] = {leftW + (frontW - floorW) / 2, ceilingH + rowHeight, floorW, floorH};
+    return geometry;
+}
 
-    const auto place = [&](WallName name, int width, int height, int x, int y) {
+RgbaImage crossLayout(const Display& display, const std::map<WallName, RgbaImage>& walls) {
+    const CrossGeometry geometry = crossGeometry(display);
+    RgbaImage cross = filledImage(geometry.width, geometry.height, 0, 0, 0);
+    for (WallName name : {WallName::Ceiling, WallName::Left, WallName::Front, WallName::Right, WallName::Back,
+                          WallName::Floor}) {
+        const CrossCell& cell = geometry.cells.at(name);
         const auto found = walls.find(name);
         if (found != walls.end()) {
-            blit(cross, found->second, x, y);
+            blit(cross, found->second, cell.x, cell.y);
         } else {
-            blit(cross, filledImage(width, height, kEmpty[0], kEmpty[1], kEmpty[2]), x, y);
+            blit(cross, filledImage(cell.width, cell.height, kEmpty[0], kEmpty[1], kEmpty[2]), cell.x, cell.y);
         }
-    };
-    place(WallName::Ceiling, ceilingW, ceilingH, leftW + (frontW - ceilingW) / 2, 0);
-    place(WallName::Left, leftW, leftH, 0, ceilingH);
-    place(WallName::Front, frontW, frontH, leftW, ceilingH);
-    place(WallName::Right, rightW, rightH, leftW + frontW, ceilingH);
-    place(WallName::Back, backW, backH, leftW + frontW + rightW, ceilingH);
-    place(WallName::Floor, floorW, floorH, leftW + (frontW - floorW) / 2, ceilingH + rowHeight);
+    }
     return cross;
 }
 

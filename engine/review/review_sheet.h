@@ -26,6 +26,19 @@ RgbaImage downsampled(const RgbaImage& image, int factor);
 /// Throws std::invalid_argument when the sizes differ.
 RgbaImage anaglyphOf(const RgbaImage& left, const RgbaImage& right);
 
+/// Where each wall lies in crossLayout's picture (pixels, row 0 at the top), and its size.
+struct CrossCell {
+    int x = 0, y = 0, width = 0, height = 0;
+};
+struct CrossGeometry {
+    int width = 0, height = 0;
+    std::map<WallName, CrossCell> cells;  ///< every wall of the cross, present on the display or not
+};
+CrossGeometry crossGeometry(const Display& display);
+
+/// Dark pixels between the crosses of a review sheet (left eye, right eye, anaglyph).
+inline constexpr int kSheetGapPixels = 16;
+
 /// The walls laid out as an unfolded cube seen from inside: left, front, right, back in a row,
 /// the ceiling above the front wall and the floor below it. Walls the display lacks (or that
 /// `walls` does not hold) stay dark. Each wall is placed at its own pixel size.

@@ -333,20 +333,37 @@ CameraPose poseViewing(const std::vector<glm::dvec3>& polyline, const glm::dvec3
     return pose;
 }
 
-std::vector<glm::dvec3> readPolypCentres(const std::string& path) {
+namespace {
+
+/// The "centre_mm" of every entry of the list `listName` of a JSON file; `entryName` and
+/// `expected` name the entries and the file in errors.
+std::vector<glm::dvec3> readListCentres(const std::string& path, const std::string& listName,
+                                        const std::string& entryName, const std::string& expected) {
     std::ifstream in(path);
-    if (!in) throw std::runtime_error(path + ": cannot open ground truth");
+    if (!in) throw std::runtime_error(path + ": cannot open " + expected);
     const nlohmann::json document = parseJson(path, in);
-    if (!document.is_object() || !document.contains("polyps") || !document["polyps"].is_array()) {
-        throw std::runtime_error(path + ": no \"polyps\" list (expected a phantom's ground truth)");
+    if (!document.is_object() || !document.contains(listName) || !document[listName].is_array()) {
+        throw std::runtime_error(path + ": no \"" + listName + "\" list (expected " + expected + ")");
     }
     std::vector<glm::dvec3> centres;
-    for (const auto& polyp : document["polyps"]) {
-        if (!polyp.is_object() || !polyp.contains("centre_mm") || !isVec3(polyp["centre_mm"])) {
-            throw std::runtime_error(path + ": polyp " + std::to_string(centres.size()) + " has no centre_mm");
+    for (const auto& entry : document[listName]) {
+        if (!entry.is_object() || !entry.contains("centre_mm") || !isVec3(entry["centre_mm"])) {
+            throw std::runtime_error(path + ": " + entryName + " " + std::to_string(centres.size()) + " has no centre_mm");
         }
-        centres.push_back(vec3Of(polyp["centre_mm"]));
+        centres.push_back(vec3Of(entry["centre_mm"]));
     }
+    return centres;
+}
+
+}  // namespace
+
+std::vector<glm::dvec3> readPolypCentres(const std::string& path) {
+    return readListCentres(path, "polyps", "polyp", "a phantom's ground truth");
+}
+
+std::vector<glm::dvec3> readCandidateCentres(const std::string& path) {
+    auto centres = readListCentres(path, "candidates", "candidate", "cvc candidates' candidates.json");
+    if (centres.empty()) throw std::runtime_error(path + ": lists no candidates");
     return centres;
 }
 
@@ -367,6 +384,14 @@ std::vector<CameraPose> posesFor(const PoseRequest& request) {
         const Centreline centreline = readCentreline(request.pathFile);
         PathSettings settings = request.path;
         if (centreline.anterior) settings.initialUp = *centreline.anterior;
+        if (!request.candidatesFile.empty()) {
+            std::vector<CameraPose> poses;
+            for (const glm::dvec3& centre : readCandidateCentres(request.candidatesFile)) {
+                poses.push_back(poseViewing(nearestSegment(centreline, centre), centre, request.polypElevationDeg,
+                                            settings, request.polypAzimuthDeg));
+            }
+            return poses;
+        }
         if (request.polyp >= 0) {
             const auto centres = readPolypCentres(request.pathFile);
             if (request.polyp >= static_cast<int>(centres.size())) {

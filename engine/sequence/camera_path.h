@@ -76,6 +76,11 @@ CameraPose poseViewing(const std::vector<glm::dvec3>& polyline, const glm::dvec3
 /// millimetres. Throws std::runtime_error naming the file for a missing or malformed list.
 std::vector<glm::dvec3> readPolypCentres(const std::string& path);
 
+/// The candidate centres ("candidates"[i]["centre_mm"], best first) of `cvc candidates`'
+/// candidates.json, in volume millimetres. Throws std::runtime_error naming the file for a
+/// missing or malformed list, or one without candidates.
+std::vector<glm::dvec3> readCandidateCentres(const std::string& path);
+
 /// The pose at `positionMm` looking at `lookAtMm`, with `up` made orthogonal to the view.
 /// Throws std::invalid_argument when the two points coincide or up is parallel to the view.
 CameraPose poseLookingAt(const glm::dvec3& positionMm, const glm::dvec3& lookAtMm, const glm::dvec3& up);
@@ -87,7 +92,8 @@ struct PoseRequest {
     PathSettings path;
     int maxFrames = 0;                 // 0: every pose of the path
     int polyp = -1;                    // >= 0: the pose viewing this polyp of the path's ground truth
-    double polypElevationDeg = 60.0;
+    std::string candidatesFile;        // non-empty: one pose viewing each candidate of this file, in its order
+    double polypElevationDeg = 60.0;   // the elevation (and azimuth) a polyp or candidate is seen at
     double polypAzimuthDeg = 0.0;
     std::optional<glm::dvec3> positionMm;
     std::optional<glm::dvec3> lookAtMm;

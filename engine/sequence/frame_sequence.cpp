@@ -287,7 +287,7 @@ private:
         const RgbaImage sheet = sideBySide({crossLayout(mSheetDisplay, sheetWalls[Eye::Left]),
                                             crossLayout(mSheetDisplay, sheetWalls[Eye::Right]),
                                             crossLayout(mSheetDisplay, anaglyph)},
-                                           16);
+                                           kSheetGapPixels);
         writePng((partial / "sheet.png").string(), sheet.width, sheet.height, sheet.rgba, true, mJob.png);
     }
 
@@ -470,7 +470,7 @@ SequenceSummary renderSequence(Raycaster& raycaster, const SequenceJob& job, con
     reportProgress();
 
     RenderSettings stereoSettings = job.settings;
-    stereoSettings.isWritingHits = job.isWritingHits;
+    stereoSettings.isWritingHits = job.isWritingHits || job.isComputingHits;
     RenderSettings sheetSettings = job.settings;
     sheetSettings.isWritingHits = false;
     // Under the walls distribution rank 0 renders the before/after walls; otherwise each frame's owner.

@@ -46,6 +46,7 @@ struct SequenceJob {
     std::string mapSource;              // how the map was obtained (cache, a file): recorded in the manifest
     bool isWritingBeforeAfter = false;  // also the centre eye's walls without and with the map
     bool isWritingHits = false;         // frame_NNNN/EYE/WALL_hits.nrrd beside each wall's PNG
+    bool isComputingHits = false;       // hits in the images hooks.onFrame gets, without writing them
     PngEncoding png = kFastPngEncoding; // see png_writer.h
     std::string rendererDescription;    // device and driver, recorded in the manifest but not compared on resume
 };

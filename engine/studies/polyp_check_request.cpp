@@ -26,7 +26,8 @@ PolypCheckJob polypCheckJobOf(const PolypCheckRequest& request) {
 
     PolypCheckJob job;
     job.display = display;
-    job.polyps = colon::readPolypTruth(request.truthPath);
+    job.polyps = request.isCandidateList ? colon::readCandidatesAsPolyps(request.truthPath)
+                                         : colon::readPolypTruth(request.truthPath);
     job.centreline = readCentreline(request.truthPath);
     if (job.centreline.anterior) job.path.initialUp = *job.centreline.anterior;
     if (request.polyps.empty()) {

@@ -13,6 +13,7 @@ namespace engine {
 
 struct PolypCheckRequest {
     std::string truthPath;   ///< a ground truth with polyps and a centreline
+    bool isCandidateList = false;  ///< truthPath is cvc candidates' candidates.json (colon::readCandidatesAsPolyps)
     std::string display = "ic5";  ///< a preset or a display JSON file with a missing wall
     int wallWidth = 0;       ///< the box's width in pixels, every wall at that density; 0: the display's own
     std::vector<int> polyps;         ///< by index in the truth; empty: every polyp

@@ -5,7 +5,9 @@ Renders a small fly-through of a colon phantom, opens file://.../index.html in h
 through Selenium and checks what a reader relies on: no console errors, the slider and the keys
 step frames, the large sheet and every wall image shown are the current frame's and loaded, the
 pose and the arc length are the manifest's, the three CT slices are drawn with the camera on
-them; given the sections a coverage run adds, they show and a patch's row jumps to its frame. The same checks must find fault with broken copies of the page (a data file or an image
+them; given the sections a coverage run adds, they show and a patch's row jumps to its frame;
+a render posed at polyp candidates lists them, sorts them, and a row shows its frame with the
+candidate ringed in each cross of the sheet. The same checks must find fault with broken copies of the page (a data file or an image
 missing), so a page that does not work cannot pass.
 
   review_page_test.py --cvc build/app/cvc --work DIR        the test (CTest runs it)
@@ -369,6 +371,95 @@ def check_coverage_page(browser, folder):
     return problems
 
 
+def candidates_run(cvc, work):
+    """`cvc render --candidates --at-candidates` with a candidate list made here at the phantom's own polyps (the
+    page is under test, not the detection): one frame per candidate, listed and ringed."""
+    truth = json.loads((work / "colon.json").read_text())["polyps"]
+    sessile = [p for p in truth if p["kind"] == "sessile"]
+    candidates = [{"rank": i + 1, "centre_mm": p["centre_mm"], "diameter_mm": 2.0 * p["diameter_mm"],
+                   "score": 0.9 - 0.1 * i, "shape_index": 0.95, "picture": None} for i, p in enumerate(sessile)]
+    (work / "candidates.json").write_text(json.dumps({"candidates": candidates}))
+    out = work / "candidates"
+    run([cvc, "render", work / "colon.nrrd", "--display", work / "tiny.json", "--path", work / "colon.json",
+         "--candidates", work / "candidates.json", "--at-candidates", "--polyp-elevation", "30", "--scale", "4", "--force", "-o", out],
+        "cvc render --candidates")
+    return out, candidates
+
+
+def candidates_on_fly_through(cvc, work):
+    """The fly-through again with the list of candidates_run placed on its frames (as cvc candidates
+    places them at the same step): the page lists them, each row on its nearest frame."""
+    listed = json.loads((work / "candidates.json").read_text())
+    nearest = [2, 0, 3, 1]
+    for candidate, frame in zip(listed["candidates"], nearest):
+        candidate["nearest_frame"] = frame
+    listed["path"] = {"step_mm": 20.0}
+    (work / "candidates_on_path.json").write_text(json.dumps(listed))
+    out = work / "flythrough_candidates"
+    run([cvc, "render", work / "colon.nrrd", "--display", work / "tiny.json", "--path", work / "colon.json",
+         "--frames", str(FRAMES), "--path-step", "20", "--scale", "4", "--candidates", work / "candidates_on_path.json",
+         "--force", "-o", out], "cvc render --candidates (a fly-through)")
+    return out, [c["nearest_frame"] for c in listed["candidates"]]
+
+
+def check_fly_through_candidates(browser, folder, frames):
+    """Problems with the candidates of a fly-through: each row on its nearest frame, a click shows it."""
+    manifest = json.loads((folder / "render.json").read_text())
+    problems = check_page(browser, folder)
+    rows = browser.execute_script(
+        "return [...document.querySelectorAll('#candidate-table tr.candidate')].map(tr => Number(tr.dataset.frame));")
+    if rows != frames:
+        problems.append(f"the rows' frames are {rows}, not the nearest frames {frames}")
+    browser.execute_script("document.querySelector('#candidate-table tr.candidate').click()")
+    problems += check_frame(browser, folder, manifest, frames[0], "a click on candidate 1")
+    problems += [f"console error: {message}" for message in severe_messages(browser)]
+    return problems
+
+
+CANDIDATES_SCRIPT = """
+const large = document.getElementById('large').getBoundingClientRect();
+return {
+  shown: !document.getElementById('candidates').hidden,
+  ranks: [...document.querySelectorAll('#candidate-table tr.candidate')].map(tr => Number(tr.dataset.rank)),
+  current: [...document.querySelectorAll('#candidate-table tr.current')].map(tr => Number(tr.dataset.rank)),
+  rings: [...document.querySelectorAll('#rings .ring')].map(r => {
+    const b = r.getBoundingClientRect();
+    return {x: b.left + b.width / 2 - large.left, y: b.top + b.height / 2 - large.top, w: large.width, h: large.height};
+  }),
+};
+"""
+
+
+def check_candidates_page(browser, folder, candidates):
+    """Problems with the candidates section: every candidate listed best first, a click on a row
+    shows its frame and marks the row, a click on a title sorts, rings lie on the sheet."""
+    manifest = json.loads((folder / "render.json").read_text())
+    problems = check_page(browser, folder)
+    state = browser.execute_script(CANDIDATES_SCRIPT)
+    ranks = [c["rank"] for c in candidates]
+    if not state["shown"] or state["ranks"] != ranks:
+        problems.append(f"the candidates section lists {state['ranks']} (shown {state['shown']}), not {ranks}")
+    if len(candidates) > 1:
+        browser.execute_script("document.querySelectorAll('#candidate-table tr.candidate')[1].click()")
+        problems += check_frame(browser, folder, manifest, 1, "a click on candidate 2")
+        state = poll(lambda: (lambda s: s if s["rings"] else None)(browser.execute_script(CANDIDATES_SCRIPT)),
+                     IMAGE_TIMEOUT_S) or browser.execute_script(CANDIDATES_SCRIPT)
+        if state["current"] != [2]:
+            problems.append(f"after the click the marked rows are {state['current']}, not [2]")
+        # Left eye, right eye and anaglyph: a ring in each third of the sheet, inside the picture.
+        thirds = sorted({int(3 * r["x"] / r["w"]) for r in state["rings"] if 0 <= r["x"] <= r["w"] and 0 <= r["y"] <= r["h"]})
+        if thirds != [0, 1, 2]:
+            problems.append(f"the rings of candidate 2 are not one in each cross of the sheet: {state['rings']}")
+    # Sorting by score ascending reverses the list (scores fall with rank here).
+    browser.execute_script("document.querySelector('#candidate-table th[data-key=score]').click()")
+    browser.execute_script("document.querySelector('#candidate-table th[data-key=score]').click()")
+    state = browser.execute_script(CANDIDATES_SCRIPT)
+    if state["ranks"] != ranks[::-1]:
+        problems.append(f"sorted by score, lowest first, the rows are {state['ranks']}, not {ranks[::-1]}")
+    problems += [f"console error: {message}" for message in severe_messages(browser)]
+    return problems
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--cvc", help="the cvc binary (test mode)")
@@ -412,6 +503,15 @@ def main():
             if problems:
                 fail("the page of cvc coverage does not work:\n  " + "\n  ".join(problems))
             print("review_page_test: the page of cvc coverage works")
+            candidates_out, candidates = candidates_run(Path(args.cvc).resolve(), work)
+            problems = check_candidates_page(browser, candidates_out, candidates)
+            if problems:
+                fail("the candidates section does not work:\n  " + "\n  ".join(problems))
+            print(f"review_page_test: the candidates section works ({len(candidates)} candidates)")
+            problems = check_fly_through_candidates(browser, *candidates_on_fly_through(Path(args.cvc).resolve(), work))
+            if problems:
+                fail("the candidates of a fly-through do not work:\n  " + "\n  ".join(problems))
+            print("review_page_test: the candidates of a fly-through work")
             copies = broken_copies(out, work)
             for label, copy in copies:
                 caught = check_page(browser, copy)

@@ -1,11 +1,13 @@
 /// @brief Synthetic colons for coverage tests: a straight air-filled tube along z with closed
 /// ends, optional ring folds, and an optional pocket in its wall (a narrow neck out along +x
 /// that turns into a chamber running along +z, so no point on the tube's axis can see into
-/// it), as signed distances turned into HU with a linear 1 mm ramp.
+/// it), and optional balls of tissue (polyps on the wall), as signed distances turned into HU
+/// with a linear 1 mm ramp.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -25,6 +27,8 @@ struct TubeSpec {
     double foldHeightMm = 4.0, foldThicknessMm = 1.5;
     bool hasPocket = false;
     double pocketZMm = 40.0;  // the neck's centre along z
+    // Balls of tissue (centre, radius in mm), e.g. centred on the wall: hemispherical polyps.
+    std::vector<std::pair<glm::dvec3, double>> balls;
 };
 
 /// Box of half sizes `half` about `centre`: negative inside.
@@ -62,6 +66,7 @@ inline double lumenDistance(const TubeSpec& s, const glm::dvec3& p) {
             d = std::max(d, -fold);
         }
     }
+    for (const auto& [centre, radius] : s.balls) d = std::max(d, radius - glm::length(p - centre));
     if (s.hasPocket) {
         const PocketBoxes b = pocketBoxes(s);
         d = std::min({d, boxDistance(p, b.neckCentre, b.neckHalf), boxDistance(p, b.chamberCentre, b.chamberHalf)});

@@ -175,6 +175,7 @@
     showPose(frame, current);
     drawSlices(frame);
     markCoverage();
+    markCandidates();
     try { history.replaceState(null, '', '#frame=' + frame.index); } catch (ignored) { /* some browsers refuse it for files */ }
   }
 
@@ -414,6 +415,17 @@
     return svg;
   }
 
+  // A table cell with a small picture, or empty without one.
+  function pictureCell(path, alt) {
+    var cell = element('td');
+    if (path) {
+      var img = element('img', { alt: alt, loading: 'lazy' });
+      img.src = fileUrl(path);
+      cell.appendChild(img);
+    }
+    return cell;
+  }
+
   function buildPatches(patches) {
     var table = element('table', { id: 'patches' });
     var head = element('tr');
@@ -438,13 +450,7 @@
         cell.textContent = '\u2013';
       }
       tr.appendChild(cell);
-      var pictureCell = element('td');
-      if (patch.picture) {
-        var img = element('img', { alt: 'unseen patch ' + patch.rank, loading: 'lazy' });
-        img.src = fileUrl(patch.picture);
-        pictureCell.appendChild(img);
-      }
-      tr.appendChild(pictureCell);
+      tr.appendChild(pictureCell(patch.picture, 'unseen patch ' + patch.rank));
       table.appendChild(tr);
     });
     return table;
@@ -463,6 +469,103 @@
       tr.classList.toggle('current', Number(tr.getAttribute('data-frame')) === index);
     });
   }
+
+  // ---- polyp candidates: a sortable table, a row shows its frame --------------------------
+
+  function buildCandidates() {
+    var candidates = data.candidates || [];
+    if (!candidates.length) return;
+    document.getElementById('candidates').hidden = false;
+    var table = document.getElementById('candidate-table');
+    var columns = [
+      { title: '#', key: 'rank', text: function (c) { return String(c.rank); } },
+      { title: 'diameter', key: 'diameter_mm', text: function (c) { return fixed(c.diameter_mm, 1) + ' mm'; } },
+      { title: 'score', key: 'score', text: function (c) { return fixed(c.score, 2); } },
+      { title: 'shape index', key: 'shape_index', text: function (c) { return fixed(c.shape_index, 2); } },
+      { title: 'centre (mm)', key: null, text: function (c) { return vectorText(c.centre_mm, 1); } },
+      { title: 'frame', key: 'frame', text: function (c) { return c.frame >= 0 ? 'frame ' + c.frame : '\u2013'; } }
+    ];
+    var order = { key: 'rank', descending: false };
+    var rows = candidates.map(function (candidate) {
+      var tr = element('tr', { class: 'candidate', 'data-frame': candidate.frame, 'data-rank': candidate.rank });
+      columns.forEach(function (column) { tr.appendChild(element('td', {}, column.text(candidate))); });
+      tr.appendChild(pictureCell(candidate.picture, 'candidate ' + candidate.rank));
+      var position = positionOfFrameIndex[candidate.frame];
+      if (position !== undefined) tr.addEventListener('click', function () { show(position); });
+      return { candidate: candidate, tr: tr };
+    });
+    var head = element('tr');
+    columns.concat([{ title: '', key: null }]).forEach(function (column) {
+      var th = element('th', column.key ? { class: 'sortable', 'data-key': column.key } : {}, column.title);
+      if (column.key) {
+        th.addEventListener('click', function () {
+          order = { key: column.key, descending: order.key === column.key ? !order.descending : column.key !== 'rank' };
+          fill();
+        });
+      }
+      head.appendChild(th);
+    });
+    function fill() {
+      table.textContent = '';
+      table.appendChild(head);
+      rows.slice().sort(function (a, b) {
+        var difference = a.candidate[order.key] - b.candidate[order.key];
+        return (order.descending ? -difference : difference) || a.candidate.rank - b.candidate.rank;
+      }).forEach(function (row) { table.appendChild(row.tr); });
+      head.querySelectorAll('th.sortable').forEach(function (th) {
+        th.setAttribute('aria-sort', th.getAttribute('data-key') !== order.key ? 'none'
+          : order.descending ? 'descending' : 'ascending');
+      });
+    }
+    fill();
+  }
+
+  function markCandidates() {
+    var index = frames.length ? frames[current].index : -1;
+    document.querySelectorAll('#candidate-table tr.candidate').forEach(function (tr) {
+      tr.classList.toggle('current', Number(tr.getAttribute('data-frame')) === index);
+    });
+    drawRings();
+  }
+
+  // Rings on the large sheet around the current frame's candidates: the sheet holds three crosses
+  // (left eye, right eye, anaglyph) with sheet_gap_px between them; a ring's place is given as
+  // fractions of one cross. The image is drawn with object-fit: contain, so the picture's own
+  // rectangle inside the element is worked out first.
+  var ringLayer = null;
+  function drawRings() {
+    if (!ringLayer) {
+      ringLayer = element('div', { id: 'rings' });
+      largeLink.appendChild(ringLayer);
+    }
+    ringLayer.textContent = '';
+    if (!frames.length || !large.naturalWidth || !(data.candidates || []).length) return;
+    var frame = frames[current];
+    if (!frame.sheet) return;
+    var naturalW = large.naturalWidth, naturalH = large.naturalHeight;
+    var boxW = large.clientWidth, boxH = large.clientHeight;
+    var scale = Math.min(boxW / naturalW, boxH / naturalH);
+    var offsetX = large.offsetLeft + (boxW - naturalW * scale) / 2, offsetY = large.offsetTop + (boxH - naturalH * scale) / 2;
+    var gap = data.sheet_gap_px || 0;
+    var crossW = (naturalW - 2 * gap) / 3;
+    data.candidates.forEach(function (candidate) {
+      if (candidate.frame !== frame.index || !candidate.ring) return;
+      [candidate.ring.left, candidate.ring.right, candidate.ring.left].forEach(function (ring, cross) {
+        if (!ring) return;
+        var x = offsetX + (cross * (crossW + gap) + ring.x * crossW) * scale;
+        var y = offsetY + ring.y * naturalH * scale;
+        var r = Math.max(6, ring.radius * crossW * scale);
+        var circle = element('span', { class: 'ring', title: 'candidate ' + candidate.rank + ': ' +
+          fixed(candidate.diameter_mm, 1) + ' mm' });
+        circle.style.left = (x - r) + 'px';
+        circle.style.top = (y - r) + 'px';
+        circle.style.width = circle.style.height = (2 * r) + 'px';
+        ringLayer.appendChild(circle);
+      });
+    });
+  }
+  large.addEventListener('load', drawRings);
+  window.addEventListener('resize', drawRings);
 
   function buildMeasurements() {
     var rows = data.measurements || [];
@@ -492,6 +595,7 @@
 
   buildStrip();
   buildCoverage();
+  buildCandidates();
   buildMeasurements();
   large.addEventListener('error', function () { report('cannot load ' + large.getAttribute('src') + '.'); });
 
