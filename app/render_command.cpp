@@ -98,6 +98,10 @@ void refuseOptionsNotApplying(const CLI::App& command, const RenderOptions& opti
                                "sets a single pose; with --path the poses follow the centreline");
         }
         if (options.candidatesFile.empty()) refuseGivenOptions(command, {"--at-candidates"}, "needs --candidates");
+        if (!options.isAtCandidates && !options.candidatesFile.empty()) {  // nearest frames of the antegrade flight
+            if (options.polyp >= 0) throw std::invalid_argument("--candidates places them on a fly-through's frames; --polyp renders one pose");
+            refuseGivenOptions(command, {"--retrograde"}, "reverses the frames cvc candidates placed the candidates on");
+        }
         if (options.polyp >= 0) {
             refuseGivenOptions(command, {"--frames"}, "counts the frames of a fly-through; --polyp renders one pose");
             refuseGivenOptions(command, {"--at-candidates"}, "poses a frame per candidate; --polyp renders one pose");

@@ -225,6 +225,8 @@ TEST(CliErrors, OptionsThatDoNotApplyAreRefusedNotIgnored) {
         {pose + "--candidates c.json", "--candidates needs --path"},
         {"--path x.json --at-candidates", "--at-candidates needs --candidates"},
         {"--path x.json --polyp 0 --candidates c.json --at-candidates", "--at-candidates poses a frame per candidate"},
+        {"--path x.json --polyp 0 --candidates c.json", "--candidates places them on a fly-through's frames"},
+        {"--path x.json --candidates c.json --retrograde", "--retrograde reverses the frames cvc candidates placed"},
         {"--path x.json --candidates c.json --at-candidates --frames 2",
          "--frames counts the frames of a fly-through; --at-candidates"},
         {pose + "--cube-map x.cvcm --map-size 64", "--map-size is the bake's size"},
