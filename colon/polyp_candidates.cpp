@@ -150,6 +150,11 @@ void requireSettings(const CandidateSettings& s) {
 
 }  // namespace
 
+double candidateSmoothingMm(const CandidateSettings& settings, const volumes::Volume& volume) {
+    const double largestSpacing = std::max({volume.spacingMm.x, volume.spacingMm.y, volume.spacingMm.z});
+    return std::max(settings.smoothingMm, 0.75 * largestSpacing);
+}
+
 CandidateSearch findPolypCandidates(const volumes::Volume& volume, const WallSurface& wall,
                                     const CandidateSettings& settings, const CandidateProgress& progress) {
     requireSettings(settings);
@@ -161,8 +166,7 @@ CandidateSearch findPolypCandidates(const volumes::Volume& volume, const WallSur
     search.wallElements = wall.size();
     search.wallAreaMm2 = wall.totalAreaMm2;
 
-    const double largestSpacing = std::max({volume.spacingMm.x, volume.spacingMm.y, volume.spacingMm.z});
-    const double sigmaMm = std::max(settings.smoothingMm, 0.75 * largestSpacing);
+    const double sigmaMm = candidateSmoothingMm(settings, volume);
     say("shape index and curvedness of " + std::to_string(wall.size()) + " wall elements");
     const auto shapes = elementShapes(volume, wall, sigmaMm, settings.isoHu);
     const auto neighbours = elementNeighbours(wall);

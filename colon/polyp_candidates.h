@@ -73,6 +73,10 @@ struct CandidateSearch {
     std::size_t wallElements = 0;
 };
 
+/// The Gaussian sigma step 1 smooths `volume` with: settings.smoothingMm, at least 0.75 of its
+/// largest voxel spacing.
+double candidateSmoothingMm(const CandidateSettings& settings, const volumes::Volume& volume);
+
 using CandidateProgress = std::function<void(const std::string& step)>;
 
 /// The candidates on `wall` (the colon wall of `volume` at settings.isoHu). Throws ColonError

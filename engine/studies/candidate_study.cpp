@@ -194,13 +194,12 @@ CandidateStudyResult runCandidateStudy(const CandidateStudySettings& settings,
                                 {"picture", r < pictures ? nlohmann::json(pictureName(r)) : nlohmann::json()}};
         list.push_back(entry);
     }
-    const double largestSpacing = std::max({volume.spacingMm.x, volume.spacingMm.y, volume.spacingMm.z});
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     nlohmann::json doc = {
         {"volume", fs::absolute(settings.volumePath).string()},
         {"path", {{"source", settings.pathFile.empty() ? "none" : settings.pathFile}, {"step_mm", settings.pathStepMm}, {"frames", result.frames}}},
         {"wall", {{"elements", result.search.wallElements}, {"area_mm2", result.search.wallAreaMm2}}},
-        {"settings", settingsJson(settings.candidates, std::max(settings.candidates.smoothingMm, 0.75 * largestSpacing))},
+        {"settings", settingsJson(settings.candidates, colon::candidateSmoothingMm(settings.candidates, volume))},
         {"counts",
          {{"cap_regions", result.search.capRegions},
           {"dropped_small", result.search.droppedSmall},
