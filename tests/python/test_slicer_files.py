@@ -1,4 +1,4 @@
-"""The files `cvc colon` and `cvc coverage` write for 3D Slicer, checked without Slicer: every
+"""The files `cvc colon`, `cvc coverage` and `cvc candidates` write for 3D Slicer, checked without Slicer: every
 .mrk.json against the Markups schema's constraints (markups_schema.json), and against Slicer's
 published schema too where a copy of it is at hand (CVC_MARKUPS_SCHEMA names one, or the shared
 folder holds schemas/markups-schema-v1.0.3.json), positions taken back from
@@ -130,3 +130,20 @@ def test_the_unseen_patches_are_a_fiducial_list_at_the_patches_centres(phantom):
     centres = numpy.array([patch["centre_mm"] for patch in patches])
     assert numpy.abs(volume_mm_from_patient(fields, lps) - centres).max() < 0.01
     assert [point["label"] for point in markup["controlPoints"]] == ["patch %d" % (p + 1) for p in range(len(patches))]
+
+
+def test_the_polyp_candidates_are_a_fiducial_list_at_their_centres(phantom):
+    folder = os.path.join(TMP, "slicer_candidates")
+    made = run_cvc("candidates", phantom, "--pictures", "0", "--force", "-o", folder)
+    assert made.returncode == 0, made.stderr
+    candidates = read_json(os.path.join(folder, "candidates.json"))["candidates"]
+    document = read_json(os.path.join(folder, "candidates.mrk.json"))
+    validate(document)
+    (markup,) = document["markups"]
+    assert markup["type"] == "Fiducial"
+    assert len(candidates) >= 1 and len(markup["controlPoints"]) == len(candidates)
+    fields, _, _ = read_nrrd(phantom)
+    lps = numpy.array([point["position"] for point in markup["controlPoints"]])
+    centres = numpy.array([candidate["centre_mm"] for candidate in candidates])
+    assert numpy.abs(volume_mm_from_patient(fields, lps) - centres).max() < 0.01
+    assert [point["label"] for point in markup["controlPoints"]] == ["candidate %d" % c["rank"] for c in candidates]
