@@ -1,7 +1,7 @@
-// cvc.polyp_check and cvc.coverage: the studies of `cvc polyp-check` and `cvc coverage` run on a
-// volume of the session, on the same code path as the program's (one process is rank 0 of 1),
-// returning what their JSON holds as Python objects; with an output folder they also write the
-// program's files there.
+// cvc.polyp_check, cvc.coverage and cvc.candidates: the studies of `cvc polyp-check`, `cvc
+// coverage` and `cvc candidates` run on a volume of the session, on the same code path as the
+// program's (one process is rank 0 of 1), returning what their JSON holds as Python objects; with
+// an output folder they also write the program's files there.
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -14,6 +14,7 @@
 #include "distribution/coverage_over_ranks.h"
 #include "distribution/polyp_check_over_ranks.h"
 #include "engine/render/volume_texture.h"
+#include "engine/studies/candidate_study.h"
 #include "engine/studies/coverage_study.h"
 #include "engine/studies/polyp_check_request.h"
 #include "python/bindings.h"
@@ -107,6 +108,27 @@ py::object coverageOf(const SessionVolume& volume, const std::string& path, cons
     return pythonOf(summary);
 }
 
+py::object candidatesOf(const SessionVolume& volume, const std::string& out, const std::string& path, double pathStep,
+                        double iso, double minDiameter, int maxCandidates, int pictures, bool force) {
+    engine::CandidateStudySettings settings;
+    settings.volumePath = volume.source();
+    settings.pathFile = path == "none" ? "" : path;
+    settings.pathStepMm = pathStep;
+    settings.outFolder = out;
+    settings.force = force;
+    settings.pictures = pictures;
+    settings.candidates.isoHu = iso;
+    settings.candidates.minDiameterMm = minDiameter;
+    settings.candidates.maxCandidates = maxCandidates;
+    engine::CandidateStudyResult result;
+    {
+        py::gil_scoped_release release;
+        volumes::Volume copy = volume.volume();  // the analysis cleanses tagged fluid in place: not the caller's
+        result = engine::candidateStudyOf(copy, settings, [](const std::string&) {});
+    }
+    return pythonOf(nlohmann::json::parse(result.json));
+}
+
 }  // namespace
 
 void addStudyBindings(py::module_& module) {
@@ -133,6 +155,16 @@ void addStudyBindings(py::module_& module) {
                "for the colon analysis's own), writes the run's folder `out` as the program does (frames' sheets, "
                "coverage.png, patches/, unseen_patches.mrk.json, the review page) and returns what coverage.json "
                "holds. The given volume is not changed.");
+    const engine::CandidateStudySettings candidateDefaults;
+    module.def("candidates", &candidatesOf, py::arg("volume"), py::arg("out"), py::kw_only(), py::arg("path") = "auto",
+               py::arg("path_step") = candidateDefaults.pathStepMm, py::arg("iso") = candidateDefaults.candidates.isoHu,
+               py::arg("min_diameter") = candidateDefaults.candidates.minDiameterMm,
+               py::arg("max_candidates") = candidateDefaults.candidates.maxCandidates,
+               py::arg("pictures") = candidateDefaults.pictures, py::arg("force") = false,
+               "The polyp candidates of `cvc candidates` on this volume (no GPU): writes candidates.json, "
+               "candidates.mrk.json and the pictures into `out` as the program does (an earlier run is replaced only "
+               "with force=True) and returns what candidates.json holds. path: 'auto' (the colon analysis's "
+               "centreline), a centreline file, or 'none'. The given volume is not changed.");
 }
 
 }  // namespace cvc_python

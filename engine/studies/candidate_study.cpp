@@ -111,19 +111,33 @@ void prepareCandidateFolder(const std::string& folder, bool force) {
     fs::remove(probe);
 }
 
-CandidateStudyResult runCandidateStudy(const CandidateStudySettings& settings,
-                                       const std::function<void(const std::string&)>& say) {
-    const auto start = std::chrono::steady_clock::now();
+namespace {
+
+/// The settings in range and the output folder ready (prepareCandidateFolder).
+void checkCandidateStudy(const CandidateStudySettings& settings) {
     if (!(settings.pathStepMm > 0.0 && settings.pathStepMm <= 1000.0)) {
         throw std::invalid_argument("--path-step must be in (0, 1000] mm");
     }
     if (settings.pictures < 0 || settings.pictures > 100) throw std::invalid_argument("--pictures must be 0..100");
     prepareCandidateFolder(settings.outFolder, settings.force);
+}
 
+}  // namespace
+
+CandidateStudyResult runCandidateStudy(const CandidateStudySettings& settings,
+                                       const std::function<void(const std::string&)>& say) {
+    checkCandidateStudy(settings);  // before the volume loads: a refusal comes at once
     volumes::LoadOptions load;
     if (!settings.rawSpec.empty()) load.raw = volumes::parseRawSpec(settings.rawSpec);
     say("candidates: loading " + settings.volumePath);
     volumes::Volume volume = volumes::loadVolume(settings.volumePath, load);
+    return candidateStudyOf(volume, settings, say);
+}
+
+CandidateStudyResult candidateStudyOf(volumes::Volume& volume, const CandidateStudySettings& settings,
+                                      const std::function<void(const std::string&)>& say) {
+    const auto start = std::chrono::steady_clock::now();
+    checkCandidateStudy(settings);
     Centreline centreline;  // a path file is read and checked before the analysis's minutes
     if (!settings.pathFile.empty() && settings.pathFile != "auto") {
         centreline = readCentreline(settings.pathFile);

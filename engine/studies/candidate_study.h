@@ -15,6 +15,7 @@
 #include "engine/display/display.h"
 #include "engine/review/review_page.h"
 #include "engine/sequence/frame_sequence.h"
+#include "volumes/volume.h"
 
 namespace engine {
 
@@ -47,6 +48,11 @@ void prepareCandidateFolder(const std::string& folder, bool force);
 /// colon is found, std::runtime_error for unreadable input or unwritable output.
 CandidateStudyResult runCandidateStudy(const CandidateStudySettings& settings,
                                        const std::function<void(const std::string&)>& say);
+
+/// The same for a volume already loaded (settings.volumePath and rawSpec only name it), which
+/// the colon analysis cleanses in place where it finds tagged fluid.
+CandidateStudyResult candidateStudyOf(volumes::Volume& volume, const CandidateStudySettings& settings,
+                                      const std::function<void(const std::string&)>& say);
 
 /// The candidates of a candidates.json for the review page of a render of `frames` frames, their
 /// pictures' paths made relative to `pageFolder`. With `pathStepMm` 0 the render posed one frame

@@ -1,5 +1,6 @@
-"""cvc.polyp_check and cvc.coverage against `cvc polyp-check` and `cvc coverage`: the same request
-gives the same document and the same files, and a bad request the program's one-line error."""
+"""cvc.polyp_check, cvc.coverage and cvc.candidates against `cvc polyp-check`, `cvc coverage` and
+`cvc candidates`: the same request gives the same document and the same files, and a bad request
+the program's one-line error."""
 import json
 import os
 
@@ -85,3 +86,25 @@ def test_coverage_gives_the_summary_and_files_of_cvc_coverage(phantom):
         cvc.coverage(volume, truth, by_python, wall_width=160, frames=1)
     with pytest.raises(ValueError, match="directions must be"):
         cvc.coverage(volume, truth, os.path.join(TMP, "coverage_refused"), directions="sideways")
+
+
+def test_candidates_gives_the_list_and_files_of_cvc_candidates(phantom):
+    by_program = os.path.join(TMP, "candidates_program")
+    made = run_cvc("candidates", phantom, "--pictures", "2", "--force", "-o", by_program)
+    assert made.returncode == 0, made.stderr
+    by_python = os.path.join(TMP, "candidates_python")
+    volume = cvc.load(phantom)
+    before = volume.array.copy()
+    found = cvc.candidates(volume, by_python, pictures=2, force=True)
+    assert (volume.array == before).all()
+    written = read_json(os.path.join(by_program, "candidates.json"))
+    assert found == read_json(os.path.join(by_python, "candidates.json"))
+    del found["seconds"], written["seconds"]  # they differ between runs
+    assert found == written
+    assert len(found["candidates"]) >= 4 and found["path"]["frames"] > 100
+    for name in ("candidates.mrk.json", "candidate_01.png", "candidate_02.png"):
+        assert read_bytes(os.path.join(by_python, name)) == read_bytes(os.path.join(by_program, name)), name
+    with pytest.raises(RuntimeError, match="exists"):
+        cvc.candidates(volume, by_python)
+    with pytest.raises(ValueError, match="--path-step must be"):
+        cvc.candidates(volume, os.path.join(TMP, "candidates_refused"), path_step=0.0)
