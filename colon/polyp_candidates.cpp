@@ -115,8 +115,8 @@ bool measureCap(const volumes::Volume& volume, double isoHu, PolypCandidate& cap
     // Start the free run a little off the surface.
     const glm::dvec3 start = surface + 0.5 * cap.normal;
     if (trilinearHu(volume, start) >= isoHu) return false;
-    const double free = freeDistanceMm(volume, start, cap.normal, isoHu, 60.0);
-    const double distance = std::min({2.5 * estimateMm, 0.7 * free, 40.0});
+    const double freeMm = freeDistanceMm(volume, start, cap.normal, isoHu, 60.0);
+    const double distance = std::min({2.5 * estimateMm, 0.7 * freeMm, 40.0});
     if (distance < 2.0) return false;
     SurfaceViewRequest view;
     view.eyeMm = start + distance * cap.normal;
