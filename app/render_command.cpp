@@ -230,14 +230,16 @@ void addRenderCommand(CLI::App& program) {
         ->check(CLI::IsMember({"trilinear", "tricubic"}))->capture_default_str()->group(rendering);
     command->add_option("--gradient", options->gradient,
                         "Shading normals: bspline (central differences of the cubic B-spline: smooth on coarse CT, 48 "
-                        "fetches per shaded sample) or central (of the trilinear interpolant: 6 fetches); default: "
-                        "bspline for a pinhole view, central for display frames; tricubic always uses bspline")
-        ->check(CLI::IsMember({"bspline", "central"}))->group(rendering);
+                        "fetches per shaded sample), bspline-voxels (the B-spline's values at the voxels, blended "
+                        "trilinearly from the gradient volume: its smoothing in 1 fetch) or central (of the trilinear "
+                        "interpolant: 6 fetches); default: bspline-voxels for a pinhole view, central for display "
+                        "frames; tricubic always uses bspline")
+        ->check(CLI::IsMember({"bspline", "bspline-voxels", "central"}))->group(rendering);
     command->add_option("--gradient-volume", options->gradientVolume,
-                        "on: shade with gradients read from a gradient volume computed once (1 fetch per shaded "
-                        "sample, 8 with bspline; 8 bytes of device memory a voxel); off: from the volume's own taps "
-                        "(6, or 48 with bspline); the same normals but for rounding (default: on for display frames, "
-                        "off for a pinhole view)")
+                        "on (default): shade with gradients read from a gradient volume computed once (1 fetch per "
+                        "shaded sample, 8 with bspline; 8 bytes of device memory a voxel); off: from the volume's own "
+                        "taps (6, or 48 with bspline and bspline-voxels); the same normals but for rounding "
+                        "(bspline-voxels off takes the B-spline's own)")
         ->check(CLI::IsMember({"on", "off"}))->group(rendering);
     command->add_flag("--no-skip", options->isSkippingOff, "Turn off empty-space skipping")->group(rendering);
     command->add_flag("--no-start-pass", options->isStartPassOff,

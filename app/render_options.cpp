@@ -16,9 +16,7 @@ engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isD
     engine::RenderSettings settings = options.settings;
     settings.mode = options.mode == "composite" ? engine::RenderMode::Composite : engine::RenderMode::IsoSurface;
     settings.filter = options.filter == "tricubic" ? engine::VolumeFilter::Tricubic : engine::VolumeFilter::Trilinear;
-    settings.gradient = options.gradient.empty() ? defaults.gradient
-                        : options.gradient == "central" ? engine::GradientFilter::Central
-                                                        : engine::GradientFilter::BSpline;
+    settings.gradient = options.gradient.empty() ? defaults.gradient : engine::gradientFilterFromName(options.gradient);
     settings.isSkipping = !options.isSkippingOff;
     settings.isUsingRayStartPass = !options.isStartPassOff;
     settings.isUsingGradientVolume =

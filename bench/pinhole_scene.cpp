@@ -36,11 +36,11 @@ void addPinholeSceneOptions(CLI::App* command, PinholeScene& scene) {
         ->check(CLI::IsMember({"iso", "composite"}))->capture_default_str();
     command->add_option("--iso", scene.isoHu, "Iso value, HU")->capture_default_str();
     command->add_option("--tf", scene.transferFunction, "Composite mode's transfer function")->capture_default_str();
-    command->add_option("--gradient", scene.gradient, "Shading normals: bspline or central")
-        ->check(CLI::IsMember({"bspline", "central"}))->capture_default_str();
+    command->add_option("--gradient", scene.gradient, "Shading normals: bspline, bspline-voxels or central")
+        ->check(CLI::IsMember({"bspline", "bspline-voxels", "central"}))->capture_default_str();
     command->add_option_function<std::string>(
         "--gradient-volume", [&scene](const std::string& value) { scene.isUsingGradientVolume = value == "on"; },
-        "on: shading gradients from the gradient volume (default: off, as for a still)")
+        "on (default, as for a still): shading gradients from the gradient volume; off: the volume's taps")
         ->check(CLI::IsMember({"on", "off"}));
     command->add_option("--device", scene.device, "Vulkan device");
 }
@@ -50,7 +50,7 @@ engine::RenderSettings settingsFor(const PinholeScene& scene, double stepVoxels)
     settings.mode = scene.mode == "composite" ? engine::RenderMode::Composite : engine::RenderMode::IsoSurface;
     settings.isoHu = scene.isoHu;
     settings.transferFunction = scene.transferFunction;
-    settings.gradient = scene.gradient == "central" ? engine::GradientFilter::Central : engine::GradientFilter::BSpline;
+    settings.gradient = engine::gradientFilterFromName(scene.gradient);
     settings.isUsingGradientVolume = scene.isUsingGradientVolume;
     settings.stepVoxels = stepVoxels;
     settings.isWritingHits = false;

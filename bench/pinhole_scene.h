@@ -28,8 +28,8 @@ struct PinholeScene {
     std::string mode = "iso";            // or "composite"
     double isoHu = -500.0;
     std::string transferFunction = "colon-wall";
-    std::string gradient = "bspline";    // or "central" (shading normals)
-    bool isUsingGradientVolume = false;  // as `cvc render` for a still
+    std::string gradient = "bspline-voxels";  // or "bspline", "central" (shading normals), as a still
+    bool isUsingGradientVolume = true;  // as `cvc render` for a still
     std::string device;
 };
 

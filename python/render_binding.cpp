@@ -51,12 +51,7 @@ engine::RenderSettings settingsOf(const RenderKeywords& keywords, engine::Render
     settings.transferFunction = keywords.tf;
     if (settings.mode == engine::RenderMode::Composite) engine::transferFunctionPreset(settings.transferFunction);
     settings.filter = keywords.filter == "tricubic" ? engine::VolumeFilter::Tricubic : engine::VolumeFilter::Trilinear;
-    if (keywords.gradient) {
-        if (*keywords.gradient != "central" && *keywords.gradient != "bspline") {
-            throw std::invalid_argument("gradient must be central or bspline, not " + *keywords.gradient);
-        }
-        settings.gradient = *keywords.gradient == "central" ? engine::GradientFilter::Central : engine::GradientFilter::BSpline;
-    }
+    if (keywords.gradient) settings.gradient = engine::gradientFilterFromName(*keywords.gradient);
     if (keywords.gradientVolume) settings.isUsingGradientVolume = *keywords.gradientVolume;
     if (keywords.step) settings.stepVoxels = *keywords.step;
     if (keywords.lightDistance) settings.lightHalfDistanceMm = *keywords.lightDistance;

@@ -206,6 +206,29 @@ void Raycaster::setSpeedBounds(int size, std::span<const float> rgba) {
 }
 
 namespace {
+// What a request's gradient volume holds: the B-spline's values at the voxels for BSplineAtVoxels
+// (but not under the tricubic filter, whose normals are always the B-spline's own), the central
+// differences for the rest.
+GradientVolumeContent gradientVolumeContentOf(const RenderSettings& settings) {
+    return settings.gradient == GradientFilter::BSplineAtVoxels && settings.filter != VolumeFilter::Tricubic
+               ? GradientVolumeContent::BSplineAtVoxels
+               : GradientVolumeContent::CentralDifferences;
+}
+
+// The shader's CVC_GRADIENT_*: one fetch of a gradient volume of the B-spline's values reads as
+// central differences do; without that volume BSplineAtVoxels takes the B-spline's own normals.
+int32_t shaderGradientOf(const RenderSettings& settings, bool hasGradientVolume) {
+    switch (settings.gradient) {
+        case GradientFilter::Central: return CVC_GRADIENT_CENTRAL;
+        case GradientFilter::BSpline: return CVC_GRADIENT_BSPLINE;
+        case GradientFilter::BSplineAtVoxels:
+            return hasGradientVolume && gradientVolumeContentOf(settings) == GradientVolumeContent::BSplineAtVoxels
+                       ? CVC_GRADIENT_CENTRAL
+                       : CVC_GRADIENT_BSPLINE;
+    }
+    throw std::invalid_argument("unknown gradient filter");
+}
+
 // What the hit image receives (CVC_HIT_OUTPUT_*): the tests' ray parameters or normals in
 // place of the positions, and nothing where no hit image is asked for.
 int32_t hitOutputOf(const RenderSettings& settings) {
@@ -219,7 +242,6 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
     const int32_t mode = settings.mode == RenderMode::Composite ? CVC_MODE_COMPOSITE : CVC_MODE_ISO;
     const int32_t filter = settings.filter == VolumeFilter::Tricubic ? CVC_FILTER_TRICUBIC : CVC_FILTER_TRILINEAR;
     const int32_t warpId = warpIdOf(warp);
-    const int32_t gradient = settings.gradient == GradientFilter::BSpline ? CVC_GRADIENT_BSPLINE : CVC_GRADIENT_CENTRAL;
     // Only iso mode refines hits: composite pipelines share one value.
     const int32_t refinement = mode == CVC_MODE_ISO ? settings.refinementSteps : 0;
     // Exact-warped rays skip only when asked to (RenderSettings::isSkippingBentRays).
@@ -229,6 +251,7 @@ ComputePipeline& Raycaster::pipelineFor(const RenderSettings& settings, WarpMode
     const int32_t jitter = settings.isJittered ? 1 : 0;
     const int32_t hitOutput = hitOutputOf(settings);
     const int32_t gradientVolume = gradientVolumeFor(settings) ? 1 : 0;
+    const int32_t gradient = shaderGradientOf(settings, gradientVolume != 0);
     const PipelineKey key{mode, filter, warpId, isSkipping ? 1 : 0, settings.isAdaptive ? 1 : 0,
                           settings.isCountingFetches ? 1 : 0, gradient, chordTable, rayStart, refinement,
                           jitter, hitOutput, gradientVolume};
@@ -321,16 +344,19 @@ const SampledTexture& Raycaster::skipDistanceFor(const RenderSettings& settings)
 
 const SampledTexture* Raycaster::gradientVolumeFor(const RenderSettings& settings) {
     if (!settings.isUsingGradientVolume || mIsGradientVolumeTooLarge) return nullptr;
-    if (!mGradientVolume) {
+    const GradientVolumeContent content = gradientVolumeContentOf(settings);
+    auto found = mGradientVolumes.find(content);
+    if (found == mGradientVolumes.end()) {
         try {
-            mGradientVolume.emplace(makeGradientVolume(*mContext, *mVolumeData));
+            found = mGradientVolumes.emplace(content, makeGradientVolume(*mContext, *mVolumeData, content)).first;
         } catch (const DeviceMemoryError&) {
-            // The taps give the same normals (but for rounding) at more fetches per shaded sample.
+            // The taps give the same normals (but for rounding; the B-spline's own for
+            // BSplineAtVoxels) at more fetches per shaded sample.
             mIsGradientVolumeTooLarge = true;
             return nullptr;
         }
     }
-    return &*mGradientVolume;
+    return &found->second;
 }
 
 void Raycaster::validateRequest(const RenderRequest& request) const {

@@ -15,6 +15,7 @@
 #include "engine/core/command_submission.h"
 #include "engine/core/compute_pipeline.h"
 #include "engine/core/gpu_context.h"
+#include "engine/render/gradient_volume.h"
 #include "engine/render/render_settings.h"
 #include "engine/render/sampled_textures.h"
 #include "engine/render/view_rays.h"
@@ -156,8 +157,10 @@ private:
     bool mHasCubeMap = false;
     SampledTexture mSpeedBounds;  // conformal::speedBoundMap of the cube map: the exact warp's skips
     bool mHasSpeedBounds = false;
-    std::optional<SampledTexture> mGradientVolume;  // made on the first request that shades with it
-    bool mIsGradientVolumeTooLarge = false;         // the device could not hold it: taps instead
+    /// By content, each made on the first request that shades with it (both only where requests
+    /// mix them, as benchmarks do; an in-flight batch may still read the other).
+    std::map<GradientVolumeContent, SampledTexture> mGradientVolumes;
+    bool mIsGradientVolumeTooLarge = false;  // the device could not hold one: taps instead
     SampledTexture mNoGradientVolume;               // bound where no gradient volume is read
     std::map<PipelineKey, std::unique_ptr<ComputePipeline>> mPipelines;
     std::map<std::string, SampledTexture> mSkipDistances;    // by cell size and "iso:<value>" or "tf:<name>"

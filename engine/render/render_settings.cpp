@@ -27,18 +27,34 @@ void validateRenderSettings(const RenderSettings& s) {
 RenderSettings defaultRenderSettings(RenderUse use) {
     const bool isDisplay = use == RenderUse::DisplayFrames;
     RenderSettings settings;
-    // Stills get smooth normals; display frames, which come by the dozen from inside the colon
-    // where the bands hardly show, keep the 4x cheaper trilinear ones (docs/benchmarks/normals.md).
-    settings.gradient = isDisplay ? GradientFilter::Central : GradientFilter::BSpline;
-    // The gradient volume pays for itself over many frames; a single still would spend longer
-    // computing it (1.3-1.7 s for the 512x512x451 yardstick here) than it saves (docs/benchmarks/march.md).
-    settings.isUsingGradientVolume = isDisplay;
+    // Stills get smooth normals: the B-spline's values at the voxels, one fetch of the gradient
+    // volume per shaded sample, within 0.005 RMSE of the tricubic image on 3 mm CT at the central
+    // differences' cost (docs/benchmarks/normals.md). Display frames, which come by the dozen from
+    // inside the colon where the bands hardly show, keep the central differences.
+    settings.gradient = isDisplay ? GradientFilter::Central : GradientFilter::BSplineAtVoxels;
+    settings.isUsingGradientVolume = true;
     // Display frames light the near wall: a headlight half as bright 25 mm away; a still has none.
     settings.lightHalfDistanceMm = isDisplay ? 25.0 : 0.0;
     // Display frames come by the dozen and their hits are refined by bisection: a voxel-long
     // step halves their time; a still keeps the finer default.
     settings.stepVoxels = isDisplay ? 1.0 : 0.5;
     return settings;
+}
+
+std::string gradientFilterName(GradientFilter gradient) {
+    switch (gradient) {
+        case GradientFilter::Central: return "central";
+        case GradientFilter::BSpline: return "bspline";
+        case GradientFilter::BSplineAtVoxels: return "bspline-voxels";
+    }
+    throw std::invalid_argument("unknown gradient filter");
+}
+
+GradientFilter gradientFilterFromName(const std::string& name) {
+    for (GradientFilter gradient : {GradientFilter::Central, GradientFilter::BSpline, GradientFilter::BSplineAtVoxels}) {
+        if (gradientFilterName(gradient) == name) return gradient;
+    }
+    throw std::invalid_argument("gradient '" + name + "' is not one of central, bspline, bspline-voxels");
 }
 
 std::string warpModeName(WarpMode mode) {

@@ -18,9 +18,16 @@ enum class RenderMode { IsoSurface, Composite };
 enum class VolumeFilter { Trilinear, Tricubic };
 /// How shading normals are computed: central differences of the trilinear interpolant (6 fetches;
 /// their kinks at voxel planes band coarse CT), or of the cubic B-spline interpolant (48 fetches,
-/// only where a sample is shaded; smooth across voxel planes, as the tricubic filter's). The
-/// tricubic filter always uses the B-spline's.
-enum class GradientFilter { Central, BSpline };
+/// only where a sample is shaded; smooth across voxel planes, as the tricubic filter's), or the
+/// B-spline's values at the voxels blended trilinearly (BSplineAtVoxels: one fetch of a gradient
+/// volume holding them, engine/render/gradient_volume.h; the B-spline's smoothing at the central
+/// differences' cost; without a gradient volume the B-spline's own). The tricubic filter always
+/// uses the B-spline's.
+enum class GradientFilter { Central, BSpline, BSplineAtVoxels };
+/// "central", "bspline", "bspline-voxels"; and back (throws std::invalid_argument listing them).
+std::string gradientFilterName(GradientFilter gradient);
+GradientFilter gradientFilterFromName(const std::string& name);
+
 /// How rays are bent. The warp of space W about the map centre (DESIGN.md, "Rays"): not at all;
 /// by mapping a ray's near and far points and marching the chord between them (paper Eq. 7, exact
 /// for an eye at the map centre); by mapping up to five points of the ray and marching the

@@ -377,7 +377,7 @@ std::string sequenceManifest(const SequenceJob& job) {
                             {"step_voxels", s.stepVoxels},
                             {"refinement_steps", s.refinementSteps},
                             {"filter", filterText(s.filter)},
-                            {"gradient", s.gradient == GradientFilter::BSpline ? "bspline" : "central"},
+                            {"gradient", gradientFilterName(s.gradient)},
                             {"gradient_volume", s.isUsingGradientVolume},
                             {"skipping", s.isSkipping},
                             {"skip_cell_voxels", s.skipCellVoxels},

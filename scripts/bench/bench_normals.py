@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Shading normals on coarse CT: time and image error of the gradient choices.
 
-Usage: /usr/bin/python3 scripts/bench/bench_normals.py [--runs 5] [--out out/bench_normals] [--gradients central,bspline]
+Usage: /usr/bin/python3 scripts/bench/bench_normals.py [--runs 5] [--out out/bench_normals]
+       [--gradients central,bspline,bspline-voxels]
 
 For each scene renders, alternating, the trilinear march with each `--gradient` choice and the
 tricubic reference (`--filter tricubic --gradient central`, the smooth image of the data), and
@@ -45,7 +46,8 @@ def render(scene, config, out):
     png = os.path.join(out, f"{scene['name']}_{config['name']}.png")
     hits = png.replace(".png", "_hits.nrrd")
     command = [CVC, "render", scene["volume"], "--iso", "-500", "--size", scene["size"], "--step", "0.5",
-               "--filter", config["filter"], "--gradient", config["gradient"], "--hits", hits, "--force", "-o", png]
+               "--filter", config["filter"], "--gradient", config["gradient"], "--gradient-volume",
+               config.get("gradient_volume", "off"), "--hits", hits, "--force", "-o", png]
     command += scene.get("camera", [])
     result = subprocess.run(command, capture_output=True, text=True)
     if result.returncode != 0:
@@ -58,7 +60,7 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--out", default=os.path.join(ROOT, "out", "bench_normals"))
-    parser.add_argument("--gradients", default="central,bspline")
+    parser.add_argument("--gradients", default="central,bspline,bspline-voxels")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     phantom = os.path.join(args.out, "colon.nrrd")
@@ -73,7 +75,9 @@ def main():
         {"name": "phantom_inside", "title": "colon phantom (0.6 mm), inside view, 512^2", "volume": phantom,
          "size": "512x512", "camera": camera_options("phantom_camera")},
     ]
-    configs = [{"name": f"trilinear_{g}", "filter": "trilinear", "gradient": g} for g in args.gradients.split(",")]
+    # bspline-voxels is read from the gradient volume (it has no taps of its own); the others from the taps.
+    configs = [{"name": f"trilinear_{g}", "filter": "trilinear", "gradient": g,
+                "gradient_volume": "on" if g == "bspline-voxels" else "off"} for g in args.gradients.split(",")]
     reference = {"name": "tricubic", "filter": "tricubic", "gradient": "bspline"}  # its normals are always the B-spline's
 
     print("| scene | configuration | ray casting ms (median) | / tricubic | RMSE vs tricubic (both hit, eroded 4 px) |")

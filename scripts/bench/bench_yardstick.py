@@ -6,7 +6,7 @@ camera, 1024^2, iso -500 HU, 0.5-voxel step) ray casting takes at most 0.5x VTK'
 larger error against each renderer's own converged image.
 
 Usage (from the repository root, after building cvc and cvc_bench):
-    /usr/bin/python3 scripts/bench/bench_yardstick.py [--rounds 5] [--out out/bench_yardstick]
+    /usr/bin/python3 scripts/bench/bench_yardstick.py [--rounds 5] [--out out/bench_yardstick] [--composite]
 
 1. Time. Each round runs VTK's render.py (the median of 5 renders after a first one, the camera
    turned 0.3 degrees about the focal point before each) and then, by the same protocol,
@@ -20,8 +20,9 @@ Usage (from the repository root, after building cvc and cvc_bench):
    cvc the iso surface with a headlight, Cook-Torrance and a mucosa tone.)
 
 cvc variants: central-difference normals (6 fetches per shaded sample), the same read from the
-gradient volume (a display frame's default), B-spline normals (a still's default: 48 fetches)
-and the same read from the gradient volume (8 fetches).
+gradient volume (a display frame's default), B-spline normals (48 fetches), the same read from
+the gradient volume (8 fetches), and the B-spline's values at the voxels read from the gradient
+volume (a still's default: 1 fetch).
 Needs python3-vtk9, python3-numpy, python3-pil and xvfb. A benchmark, not a test.
 """
 import argparse
@@ -37,10 +38,19 @@ from bench_scenes import camera_options
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 VTK_DIR = os.path.join(ROOT, "..", "shared", "bench", "vtk")
 VARIANTS = {
-    "central": ["--gradient", "central"],
-    "central, gradient volume": ["--gradient", "central", "--gradient-volume", "on"],
-    "B-spline (a still's default)": ["--gradient", "bspline"],
+    "central": ["--gradient", "central", "--gradient-volume", "off"],
+    "central, gradient volume (a display frame's default)": ["--gradient", "central", "--gradient-volume", "on"],
+    "B-spline": ["--gradient", "bspline", "--gradient-volume", "off"],
     "B-spline, gradient volume": ["--gradient", "bspline", "--gradient-volume", "on"],
+    "B-spline at the voxels, gradient volume (a still's default)": ["--gradient", "bspline-voxels",
+                                                                    "--gradient-volume", "on"],
+}
+# Composite mode (--composite): the colon-wall transfer function given to both, VTK through
+# bench_vtk_worker.py (as bench_march.sh runs it), ours for the two defaults.
+COMPOSITE_VARIANTS = {
+    "central, gradient volume (a display frame's default)": ["--gradient", "central", "--gradient-volume", "on"],
+    "B-spline at the voxels, gradient volume (a still's default)": ["--gradient", "bspline-voxels",
+                                                                    "--gradient-volume", "on"],
 }
 STEP, CONVERGED_STEP = 0.5, 0.1
 
@@ -73,6 +83,33 @@ def cvc_warm_ms(out, camera, options):
     return result["median_ms"], result["first_ms"]
 
 
+def yardstick_nrrd(out):
+    """The yardstick's volume as NRRD too (the VTK worker reads NRRD): a header before the raw data."""
+    path = os.path.join(out, "phantom512.nrrd")
+    if not os.path.exists(path):
+        with open(path, "wb") as nrrd, open(os.path.join(out, "phantom512.raw"), "rb") as raw:
+            nrrd.write(b"NRRD0004\ntype: short\ndimension: 3\nsizes: 512 512 451\nspacings: 0.7 0.7 0.8\n"
+                       b"encoding: raw\nendian: little\n\n")
+            nrrd.write(raw.read())
+    return path
+
+
+def vtk_composite_ms(out, camera):
+    """VTK's median milliseconds of 3 composite renders after the first (colon-wall, 0.5 voxel)."""
+    option = dict(zip(camera[0::2], camera[1::2]))
+    job = {"volume": yardstick_nrrd(out), "threads": os.cpu_count(),
+           "camera": {"position": option["--position"], "look_at": option["--look-at"], "up": option["--up"],
+                      "fov": float(option["--fov"]), "size": "1024x1024"},
+           "tasks": [{"mode": "composite", "iso": -500, "step": STEP, "step_mm": 0.35, "runs": 3,
+                      "png": os.path.join(out, "vtk_composite.png")}],
+           "result": os.path.join(out, "vtk_composite.json")}
+    with open(os.path.join(out, "vtk_composite_job.json"), "w") as f:
+        json.dump(job, f)
+    run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "/usr/bin/python3",
+         os.path.join(ROOT, "scripts", "bench", "bench_vtk_worker.py"), os.path.join(out, "vtk_composite_job.json")])
+    return statistics.median(json.load(open(job["result"]))["results"][0]["times_ms"])
+
+
 def cvc_image(out, camera, options, step, refine, png):
     run([os.path.join(ROOT, "build", "app", "cvc"), "render", os.path.join(out, "phantom512.mhd")] + camera +
         ["--size", "1024x1024", "--iso", -500, "--step", step, "--refine", refine, "--force", "-o", png] + options)
@@ -81,6 +118,8 @@ def cvc_image(out, camera, options, step, refine, png):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--composite", action="store_true",
+                        help="also composite mode (colon-wall), paired with VTK's per round")
     parser.add_argument("--out", default=os.path.join(ROOT, "out", "bench_yardstick"))
     args = parser.parse_args()
     if not 1 <= args.rounds <= 100:
@@ -94,6 +133,7 @@ def main():
 
     vtk_s, vtk_first_s = [], []
     ours = {name: {"ms": [], "first_ms": []} for name in VARIANTS}
+    vtk_composite, composite = [], {name: [] for name in COMPOSITE_VARIANTS}
     for r in range(args.rounds):
         median_s, first_s = vtk_view(out, STEP, os.path.join(out, "vtk.png"), 5)
         vtk_s.append(median_s)
@@ -104,6 +144,13 @@ def main():
             ours[name]["first_ms"].append(first_ms)
         print(f"round {r + 1}/{args.rounds}: VTK {1000 * median_s:.0f} ms, " +
               ", ".join(f"{name} {ours[name]['ms'][-1]:.0f} ms" for name in VARIANTS), file=sys.stderr)
+        if args.composite:
+            vtk_composite.append(vtk_composite_ms(out, camera))
+            for name, options in COMPOSITE_VARIANTS.items():
+                ms, _ = cvc_warm_ms(out, camera, options + ["--mode", "composite", "--tf", "colon-wall"])
+                composite[name].append(ms)
+            print(f"round {r + 1}/{args.rounds}, composite: VTK {vtk_composite[-1]:.0f} ms, " +
+                  ", ".join(f"{name} {composite[name][-1]:.0f} ms" for name in COMPOSITE_VARIANTS), file=sys.stderr)
 
     print("converged images", file=sys.stderr)
     vtk_converged = os.path.join(out, "vtk_converged.png")
@@ -129,6 +176,15 @@ def main():
     print(f"\nVTK's times, ms: {' '.join(f'{1000 * v:.0f}' for v in vtk_s)}")
     for name in VARIANTS:
         print(f"cvc {name}, ms: {' '.join(f'{v:.0f}' for v in ours[name]['ms'])}")
+    if args.composite:
+        print(f"\n| yardstick view, composite colon-wall, {STEP:g} voxel, 1024^2 | ms, median of {args.rounds} | "
+              "/ VTK, paired per round |")
+        print("|---|---:|---:|")
+        print(f"| VTK 9.1 CPU ray caster (median of 3 after the first) | {statistics.median(vtk_composite):.0f} | 1 |")
+        for name in COMPOSITE_VARIANTS:
+            ratio = statistics.median(ms / v for ms, v in zip(composite[name], vtk_composite))
+            print(f"| cvc, {name} | {statistics.median(composite[name]):.0f} | **{ratio:.2f}** |")
+        print(f"\nVTK's composite times, ms: {' '.join(f'{v:.0f}' for v in vtk_composite)}")
     print(f"load average at the end {os.getloadavg()[0]:.2f}")
 
 
