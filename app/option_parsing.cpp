@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 
 #include <unistd.h>
@@ -77,13 +76,6 @@ void requireWritableOutput(const std::string& path, bool force) {
 
 void resizeWalls(engine::Display& display, const std::string& size) {
     engine::resizeWallsToWidth(display, parseImageSize(size, "--wall-size").first);
-}
-
-void writeTextFile(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error(path + ": write failed");
 }
 
 }  // namespace app

@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/display/display.h"
+#include "engine/output/text_file.h"
 
 namespace CLI {
 class App;
@@ -42,8 +43,7 @@ void requireWritableOutput(const std::string& path, bool force);
 /// checked like any size but follows from the box, as the display's own walls do).
 void resizeWalls(engine::Display& display, const std::string& size);
 
-/// Writes `text` to `path`, replacing it; throws std::runtime_error naming the file when the
-/// write fails (a full disk, a file-size limit).
-void writeTextFile(const std::string& path, const std::string& text);
+/// Every command writes its text outputs (--json summaries, tables) through the engine's one writer.
+using engine::writeTextFile;
 
 }  // namespace app

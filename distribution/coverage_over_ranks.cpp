@@ -10,19 +10,13 @@
 #include "colon/slicer_files.h"
 #include "distribution/work_share.h"
 #include "engine/display/display_map.h"
+#include "engine/output/text_file.h"
 #include "engine/sequence/frame_sequence.h"
 
 namespace distribution {
 namespace {
 
 namespace fs = std::filesystem;
-
-void writeText(const fs::path& path, const std::string& text) {
-    std::ofstream out(path, std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error(path.string() + ": write failed");
-}
 
 /// Flies this rank's frames of the row's path (every frame for one process; frame i goes to rank
 /// i mod N under mpirun), marks what they show and writes each one's sheet; on rank 0, the whole
@@ -100,9 +94,9 @@ nlohmann::json coverageRowOverRanks(MpiSession& session, const engine::CoverageS
         flyAndMeasure(session, settings, row, scene, raycaster, mapSize, coverage, folder, report);
     if (!isReporter(session)) return nullptr;  // rank 0 has every rank's frames: it reports the row
     engine::locateAndPictureUnseen(settings, scene, raycaster, coverage, result, folder);
-    writeText(folder / "unseen_patches.mrk.json", colon::unseenPatchesMarkupsJson(result.patches, scene.loaded.volume));
+    engine::writeTextFile(folder / "unseen_patches.mrk.json", colon::unseenPatchesMarkupsJson(result.patches, scene.loaded.volume));
     const nlohmann::json doc = engine::coverageRowJson(settings, row, coverage, result, rendererDescription, session.ranks());
-    writeText(folder / "coverage.json", doc.dump(1) + "\n");
+    engine::writeTextFile(folder / "coverage.json", doc.dump(1) + "\n");
     engine::writeCoverageRowPage(settings, row, scene, coverage, result, rendererDescription, folder);
     if (report.tell) {
         std::ostringstream line;

@@ -14,6 +14,7 @@
 #include "colon/surface_view.h"
 #include "colon/wall_surface.h"
 #include "engine/output/png_writer.h"
+#include "engine/output/text_file.h"
 #include "engine/review/review_sheet.h"
 #include "engine/sequence/camera_path.h"
 #include "volumes/load_volume.h"
@@ -28,13 +29,6 @@ nlohmann::json vecJson(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 bool isCandidatePicture(const fs::path& path) {
     const std::string name = path.filename().string();
     return name.rfind("candidate_", 0) == 0 && path.extension() == ".png";
-}
-
-void writeText(const fs::path& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
 std::string pictureName(std::size_t rank) {
@@ -236,9 +230,9 @@ CandidateStudyResult candidateStudyOf(volumes::Volume& volume, const CandidateSt
         doc["centreline_order"] = "rectum_to_caecum";
     }
     result.json = doc.dump(2) + "\n";
-    writeText(folder / "candidates.mrk.json",
+    writeTextFile(folder / "candidates.mrk.json",
               colon::markupsJson(colon::MarkupsKind::Fiducial, "polyp candidates", points, volume, {1.0, 0.8, 0.0}));
-    writeText(folder / "candidates.json", result.json);
+    writeTextFile(folder / "candidates.json", result.json);
     return result;
 }
 

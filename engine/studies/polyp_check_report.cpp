@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "engine/output/png_writer.h"
+#include "engine/output/text_file.h"
 
 namespace engine {
 namespace {
@@ -269,14 +270,8 @@ void requirePolypCheckFolder(const std::filesystem::path& folder, bool force) {
 
 void writePolypCheckFiles(const std::filesystem::path& folder, const nlohmann::json& document) {
     std::filesystem::create_directories(folder);
-    const auto write = [](const std::filesystem::path& path, const std::string& text) {
-        std::ofstream out(path, std::ios::trunc);
-        out << text;
-        out.close();
-        if (!out) throw std::runtime_error(path.string() + ": write failed");
-    };
-    write(folder / "polyp_check.json", document.dump(1) + "\n");
-    write(folder / "polyp_check.md", polypCheckMarkdown(document["results"]));
+    writeTextFile(folder / "polyp_check.json", document.dump(1) + "\n");
+    writeTextFile(folder / "polyp_check.md", polypCheckMarkdown(document["results"]));
 }
 
 }  // namespace engine
