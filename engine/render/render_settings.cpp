@@ -29,8 +29,11 @@ RenderSettings defaultRenderSettings(RenderUse use) {
     RenderSettings settings;
     // Stills get smooth normals: the B-spline's values at the voxels, one fetch of the gradient
     // volume per shaded sample, within 0.005 RMSE of the tricubic image on 3 mm CT at the central
-    // differences' cost (docs/benchmarks/normals.md). Display frames, which come by the dozen from
-    // inside the colon where the bands hardly show, keep the central differences.
+    // differences' cost (docs/benchmarks/normals.md). The volume is built before the first frame
+    // (about 4 s for the 512x512x451 yardstick here): it pays from a session's second view on, and
+    // a one-off still of a large CT is quicker with it off (the B-spline's own normals, 48 fetches).
+    // Display frames, which come by the dozen from inside the colon where the bands hardly show,
+    // keep the central differences.
     settings.gradient = isDisplay ? GradientFilter::Central : GradientFilter::BSplineAtVoxels;
     settings.isUsingGradientVolume = true;
     // Display frames light the near wall: a headlight half as bright 25 mm away; a still has none.

@@ -5,7 +5,7 @@ Usage: /usr/bin/python3 scripts/bench/bench_normals.py [--runs 5] [--out out/ben
        [--gradients central,bspline,bspline-voxels]
 
 For each scene renders, alternating, the trilinear march with each `--gradient` choice and the
-tricubic reference (`--filter tricubic --gradient central`, the smooth image of the data), and
+tricubic reference (`--filter tricubic --gradient bspline`, the smooth image of the data), and
 reports per configuration the median ray-casting time (device time of the dispatch, `--runs` runs),
 its ratio to the tricubic render's time in the same run, and the RMSE of the colour against the
 reference over the pixels where both images hit the surface, the silhouette eroded by 4 pixels.
