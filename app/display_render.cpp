@@ -2,8 +2,6 @@
 /// pose or along a path, bent through the display's map. The engine renders the sequence
 /// (engine/sequence/frame_sequence.h); this file turns options into a job, shows progress and
 /// passes Ctrl-C in as a cancel request.
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -11,16 +9,16 @@
 
 #include <unistd.h>
 
-#include <nlohmann/json.hpp>
-
 #include "app/colon_command.h"
+#include "app/interrupt_guard.h"
 #include "app/option_parsing.h"
 #include "app/progress_bar.h"
 #include "app/render_options.h"
 #include "conformal/cube_map_baker.h"
 #include "conformal/cube_map_speed.h"
 #include "distribution/mpi_session.h"
-#include "distribution/rank_stop_report.h"
+#include "distribution/sequence_over_ranks.h"
+#include "distribution/work_share.h"
 #include "engine/core/gpu_context.h"
 #include "engine/display/display_json.h"
 #include "engine/display/display_map.h"
@@ -34,25 +32,6 @@
 
 namespace app {
 namespace {
-
-std::atomic<bool> gInterruptRequested{false};
-
-extern "C" void onInterrupt(int) {
-    gInterruptRequested = true;
-    std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C stops at once
-}
-
-/// Installs the Ctrl-C handler for the lifetime of a sequence and restores the old one.
-class InterruptGuard {
-public:
-    InterruptGuard() : mPrevious(std::signal(SIGINT, onInterrupt)) { gInterruptRequested = false; }
-    ~InterruptGuard() { std::signal(SIGINT, mPrevious); }
-    InterruptGuard(const InterruptGuard&) = delete;
-    InterruptGuard& operator=(const InterruptGuard&) = delete;
-
-private:
-    void (*mPrevious)(int);
-};
 
 /// The poses asked for: toward a polyp or each candidate, along a path, or the one of --position.
 std::vector<engine::CameraPose> posesFrom(const RenderOptions& options) {
@@ -91,39 +70,8 @@ RenderOptions withAutomaticPath(const RenderOptions& given) {
     return options;
 }
 
-/// What rank 0 read and worked out for every rank: the volume to render (the cleansed one after
-/// --path auto), the display and the poses.
-struct SharedRequest {
-    std::string volumePath;
-    engine::Display display;
-    std::vector<engine::CameraPose> poses;
-};
-
-std::string requestText(const SharedRequest& request) {
-    nlohmann::json poses = nlohmann::json::array();
-    for (const auto& pose : request.poses) {
-        poses.push_back({pose.positionMm.x, pose.positionMm.y, pose.positionMm.z, pose.forward.x, pose.forward.y,
-                         pose.forward.z, pose.up.x, pose.up.y, pose.up.z});
-    }
-    return nlohmann::json{{"volume", request.volumePath},
-                          {"display", engine::displayJson(request.display)},
-                          {"poses", poses}}
-        .dump();
-}
-
-SharedRequest requestFromText(const std::string& text) {
-    const nlohmann::json document = nlohmann::json::parse(text);
-    SharedRequest request;
-    request.volumePath = document.at("volume").get<std::string>();
-    request.display = engine::displayFromJsonText(document.at("display").get<std::string>());
-    for (const auto& p : document.at("poses")) {
-        request.poses.push_back({{p[0], p[1], p[2]}, {p[3], p[4], p[5]}, {p[6], p[7], p[8]}});
-    }
-    return request;
-}
-
 /// Rank 0's reading of the request (every rank of one process).
-SharedRequest readRequest(const RenderOptions& givenOptions, RenderOptions& options) {
+distribution::SequenceRequest readRequest(const RenderOptions& givenOptions, RenderOptions& options) {
     // --path auto writes its analysis into the output folder: refuse an occupied folder first,
     // by the sequence's own rule (a resumed folder is checked against its manifest later, once
     // the poses are known).
@@ -132,7 +80,7 @@ SharedRequest readRequest(const RenderOptions& givenOptions, RenderOptions& opti
         engine::checkSequenceOutput(engine::SequenceJob{}, {givenOptions.outPath, givenOptions.force, false, {}});
     }
     options = isAutomaticPath ? withAutomaticPath(givenOptions) : givenOptions;
-    SharedRequest request;
+    distribution::SequenceRequest request;
     request.volumePath = options.volumePath;
     request.display = engine::loadDisplay(options.display);
     if (!options.map.empty()) request.display.map = conformal::mapKindFromName(options.map);
@@ -148,12 +96,11 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     // --path auto); every rank gets what it found.
     distribution::MpiSession& mpi = distribution::mpiSession();
     RenderOptions options = givenOptions;
-    SharedRequest request;
-    if (mpi.rank() == 0) request = readRequest(givenOptions, options);
-    if (mpi.isShared()) {
-        request = requestFromText(mpi.broadcast(mpi.rank() == 0 ? requestText(request) : std::string()));
+    const distribution::SequenceRequest request =
+        distribution::sharedSequenceRequest(mpi, [&] { return readRequest(givenOptions, options); });
+    if (options.volumePath != request.volumePath) {  // another rank's: the cleansed NRRD of --path auto
         options.volumePath = request.volumePath;
-        if (options.volumePath != givenOptions.volumePath) options.rawSpec.clear();  // the cleansed NRRD
+        options.rawSpec.clear();
     }
     const bool isAutomaticPath = givenOptions.pathFile == "auto";
     const engine::Display& display = request.display;
@@ -203,7 +150,7 @@ void runDisplayRender(const RenderOptions& givenOptions) {
                                    : report.wasLoadedFromCache
                                        ? "loaded from " + report.cachePath.string()
                                        : "computed in " + std::to_string(report.mapSeconds + report.bakeSeconds) + " s";
-        if (mpi.rank() == 0) {
+        if (distribution::isReporter(mpi)) {
             std::cerr << "map: " << conformal::mapKindName(map.kind) << ", " << map.size << "^2 per face, " << origin
                       << '\n';
         }
@@ -213,51 +160,31 @@ void runDisplayRender(const RenderOptions& givenOptions) {
             raycaster.setSpeedBounds(bounds.size, bounds.rgba);
         }
     };
-    if (hasMap && mpi.rank() == 0) loadMap();
-    mpi.barrier();
-    if (hasMap && mpi.rank() != 0) loadMap();
+    if (hasMap) distribution::rootFirst(mpi, loadMap);
 
     InterruptGuard interruptGuard;
     std::optional<ProgressBar> progress;  // made at the first report, which says how many frames were kept
     engine::SequenceHooks hooks;
-    hooks.isCancelled = [] { return gInterruptRequested.load(); };
+    hooks.isCancelled = [] { return InterruptGuard::isRequested(); };
     hooks.onProgress = [&progress](int done, int total) {
         if (!progress) progress.emplace(std::cerr, total, done, isatty(fileno(stderr)) != 0);
         progress->update(done);
     };
-    engine::SequenceShare share;
-    share.rank = mpi.rank();
-    share.ranks = mpi.ranks();
-    share.distribution = options.distribution == "walls" ? engine::Distribution::Walls : engine::Distribution::Frames;
-    share.barrier = [&mpi] { mpi.barrier(); };
-    share.reportFrameWritten = [&mpi](std::vector<unsigned char> message) { mpi.sendToRoot(std::move(message)); };
-    share.takeFrameWritten = [&mpi] { return mpi.receiveAtRoot(); };
-    // Rank 0 names a rank that dies, and the frame it was at, when mpirun stops the job.
-    const std::vector<distribution::RankProcess> processes =
-        mpi.isShared() ? distribution::rankProcessesOf(mpi.gatherProcesses()) : std::vector<distribution::RankProcess>{};
-    std::optional<distribution::RankStopReport> stopReport;
-    if (mpi.isShared() && mpi.rank() == 0) {
-        stopReport.emplace(isatty(fileno(stderr)) != 0);
-        hooks.onPendingFrames = [&](const std::vector<int>& pending) {
-            std::vector<std::vector<int>> frames;
-            for (int rank = 0; rank < share.ranks; ++rank) frames.push_back(engine::framesOfRank(pending, share, rank));
-            stopReport->arm(distribution::rankStopStateOf(options.outPath, distribution::thisHostName(), processes, std::move(frames),
-                                            static_cast<int>(job.poses.size())));
-        };
-    }
     if (!options.candidatesFile.empty()) {
         job.isComputingHits = true;
         hooks.onFrame = [&](int frame, const auto& walls) { engine::ringCandidatesOnFrame(candidates, frame, display, walls); };
     }
+    const engine::Distribution sharing =
+        options.distribution == "walls" ? engine::Distribution::Walls : engine::Distribution::Frames;
     engine::SequenceSummary summary;
     try {
-        summary = engine::renderSequence(raycaster, job, output, hooks, share);
+        summary = distribution::renderSequenceOverRanks(mpi, raycaster, job, output, hooks, sharing);
     } catch (...) {
         if (progress) progress->finish();
         throw;
     }
     if (progress) progress->finish();
-    if (mpi.rank() != 0) return;  // rank 0 writes the page and speaks for the job
+    if (!distribution::isReporter(mpi)) return;  // rank 0 writes the page and speaks for the job
     // After the sequence, so that a resumed run's page covers the frames kept and the new ones.
     engine::ReviewPage page = engine::reviewPageOfSequence(job, &loaded.volume);
     page.candidates = std::move(candidates);

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include <CLI/CLI.hpp>
+
 #include "app/option_parsing.h"
 #include "engine/render/transfer_function.h"
 
@@ -61,6 +63,63 @@ void checkDicomOutput(const std::string& folder, bool force) {
         if (!force && entry.path().extension() == ".dcm") {
             throw std::invalid_argument("--dicom-out " + folder + ": holds DICOM files (use --force to replace them)");
         }
+    }
+}
+
+void refuseRenderOptionsNotApplying(const CLI::App& command, const RenderOptions& options) {
+    if (options.display.empty()) {
+        refuseGivenOptions(command,
+                           {"--map", "--map-size", "--cube-map", "--warp", "--scale", "--before-after", "--path",
+                            "--path-step", "--smoothing", "--retrograde", "--frames", "--distribute", "--polyp",
+                            "--candidates", "--at-candidates", "--polyp-elevation", "--polyp-azimuth", "--resume"},
+                           "is for display renders (--display); a pinhole view is one image from one camera");
+    } else {
+        refuseGivenOptions(command, {"--fov", "--size"},
+                           "sets the pinhole camera; a display's walls have their own sizes and fields of view");
+        refuseGivenOptions(command, {"--stats"}, "counts the fetches of a pinhole view; it is not for --display");
+        if (options.pathFile.empty()) {
+            refuseGivenOptions(command,
+                               {"--path-step", "--smoothing", "--retrograde", "--frames", "--polyp", "--candidates",
+                                "--at-candidates", "--polyp-elevation", "--polyp-azimuth"},
+                               "needs --path: without it the display renders the one pose of --position");
+        } else {
+            refuseGivenOptions(command, {"--position", "--look-at", "--up"},
+                               "sets a single pose; with --path the poses follow the centreline");
+        }
+        if (options.candidatesFile.empty()) refuseGivenOptions(command, {"--at-candidates"}, "needs --candidates");
+        if (!options.isAtCandidates && !options.candidatesFile.empty()) {  // nearest frames of the antegrade flight
+            if (options.polyp >= 0) throw std::invalid_argument("--candidates places them on a fly-through's frames; --polyp renders one pose");
+            refuseGivenOptions(command, {"--retrograde"}, "reverses the frames cvc candidates placed the candidates on");
+        }
+        if (options.polyp >= 0) {
+            refuseGivenOptions(command, {"--frames"}, "counts the frames of a fly-through; --polyp renders one pose");
+            refuseGivenOptions(command, {"--at-candidates"}, "poses a frame per candidate; --polyp renders one pose");
+        } else if (options.isAtCandidates) {
+            refuseGivenOptions(command, {"--frames"}, "counts the frames of a fly-through; --at-candidates renders one per candidate");
+        } else {
+            refuseGivenOptions(command, {"--polyp-elevation", "--polyp-azimuth"}, "needs --polyp or --at-candidates");
+        }
+        if (!options.cubeMapFile.empty()) {
+            refuseGivenOptions(command, {"--map-size"}, "is the bake's size; the file of --cube-map has its own");
+        }
+        refuseMapOptionsWithoutMap(command, options.display, options.map);
+    }
+    if (options.mode == "composite") {
+        refuseGivenOptions(command, {"--iso", "--refine"}, "is for --mode iso; composite mode uses --tf");
+    } else {
+        refuseGivenOptions(command, {"--tf", "--early-termination"}, "is for --mode composite");
+    }
+    if (options.warp != "exact") refuseGivenOptions(command, {"--skip-bent-rays"}, "is for --warp exact");
+    if (options.isSkippingOff) {
+        refuseGivenOptions(command, {"--skip-cell", "--no-start-pass", "--look-in-every-tile", "--skip-bent-rays"},
+                           "sets how empty space is skipped, which --no-skip turns off");
+    }
+    if (options.isStartPassOff) {
+        refuseGivenOptions(command, {"--look-in-every-tile"}, "is for the tile pass, which --no-start-pass turns off");
+    }
+    if (options.filter == "tricubic" && !options.gradient.empty() && options.gradient != "bspline") {
+        throw std::invalid_argument("--gradient " + options.gradient +
+                                    ": the tricubic filter always shades with B-spline normals");
     }
 }
 

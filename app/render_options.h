@@ -9,6 +9,10 @@
 #include "engine/render/render_settings.h"
 #include "volumes/volume.h"
 
+namespace CLI {
+class App;
+}
+
 namespace app {
 
 struct RenderOptions {
@@ -66,6 +70,11 @@ struct RenderOptions {
 /// Applies the string options (mode, filter, skipping, light) to options.settings; throws
 /// std::invalid_argument for an unknown transfer function.
 engine::RenderSettings renderSettingsFrom(const RenderOptions& options, bool isDisplay);
+
+/// Refuses, naming why, every option given to `command` that the request makes meaningless (a
+/// display's options for a pinhole view, a pose with --path, composite's with iso, ...): throws
+/// CLI::ValidationError or std::invalid_argument before any work.
+void refuseRenderOptionsNotApplying(const CLI::App& command, const RenderOptions& options);
 
 /// The pinhole camera the options ask for. With no position given, it looks at the volume's
 /// centre from the patient's front (anterior, -y in LPS) with the head up (+z), whatever order

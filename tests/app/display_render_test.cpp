@@ -168,6 +168,53 @@ TEST(DisplayRender, AFullDiskStopsWithOneMessageAndResumeCompletesTheFolder) {
     testing_support::expectSameFolders(clean, kept);
 }
 
+/// Ctrl-C in the middle of a fly-through: exit status 130 with one line that says the finished
+/// frames are kept, no half-written frame left behind, and --resume completing the folder as a
+/// clean run writes it.
+TEST(DisplayRender, CtrlCKeepsTheFinishedFramesAndResumeCompletesTheFolder) {
+    const SmallScene scene;
+    // A path of 60 frames 0.5 mm apart, long enough that the signal comes while frames remain.
+    const fs::path longPath = testing_support::processTmp("display_long_path.txt");
+    {
+        std::ofstream path(longPath);
+        for (int i = 0; i <= 60; ++i) path << "15.5 15.5 " << 2.0 + 0.45 * i << '\n';
+    }
+    const auto command = [&](const fs::path& out, const std::string& extra) {
+        return "render " + scene.volume.string() + " --display " + scene.display.string() + " --path " +
+               longPath.string() + " --path-step 0.5 --iso -480 --scale 5 -o " + out.string() + " " + extra;
+    };
+    const fs::path clean = tmp("display/frames_interrupt_clean");
+    fs::remove_all(clean);
+    ASSERT_EQ(runCvc(command(clean, "")).exitCode, 0);
+
+    const fs::path out = tmp("display/frames_interrupt");
+    fs::remove_all(out);
+    const fs::path err = tmp("display/interrupt.err");
+    // Job control on (set -m): a background job of a script would otherwise start with SIGINT
+    // ignored. The signal goes once the second frame is in place.
+    const std::string script = "set -m; \"" CVC_BINARY "\" " + command(out, "") + " </dev/null >/dev/null 2>" +
+                               err.string() + " & pid=$!; for i in $(seq 6000); do [ -e " +
+                               (out / "frame_0001").string() + " ] && break; sleep 0.01; done; kill -INT $pid; wait $pid";
+    const int status = std::system(("bash -c '" + script + "'").c_str());
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    const std::string message = testing_support::readWholeFile(err);
+    ASSERT_EQ(code, 130) << message;
+    const std::string last = message.substr(message.rfind("cvc: "));
+    EXPECT_EQ(testing_support::lineCount(last), 1) << message;
+    EXPECT_NE(last.find("interrupted; the finished frames are kept (continue with --resume)"), std::string::npos)
+        << message;
+    ASSERT_TRUE(fs::exists(out / "frame_0001" / "sheet.png"));
+    EXPECT_FALSE(fs::exists(out / "frame_0060")) << "the run was not interrupted";
+    for (const auto& entry : fs::directory_iterator(out)) {
+        EXPECT_EQ(entry.path().filename().string().rfind(".frame_", 0), std::string::npos) << "left " << entry.path();
+    }
+
+    const auto resumed = runCvc(command(out, "--resume"));
+    ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
+    EXPECT_NE(resumed.out.find("kept "), std::string::npos) << resumed.out;
+    testing_support::expectSameFolders(clean, out);
+}
+
 TEST(DisplayRender, ConformalDisplayWritesTheBeforeAfterSheet) {
     const SmallScene scene;
     const fs::path display = tmp("display/tiny_ic.json");
