@@ -38,7 +38,8 @@ if ((${#missing[@]})); then
 fi
 
 # lavapipe (Mesa's CPU Vulkan driver) from bookworm-backports: Debian 12 ships Mesa 22.3, whose
-# ray casting is about 2x slower than Mesa 25's on the same binary (docs/benchmarks/mesa.md). The
+# ray casting of a stereo frame is about 1.2x slower than Mesa 25's on the same binary, the same
+# pixels (docs/benchmarks/mesa.md; 2x before the march skipped most empty samples). The
 # backports suite is enabled the standard way: its packages keep apt's low priority (100), so only
 # mesa-vulkan-drivers and what it needs come from there. Where backports cannot be had (another
 # release, no network to it), the release's Mesa is installed instead and setup says so.
