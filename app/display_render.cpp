@@ -9,6 +9,8 @@
 
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include "app/colon_command.h"
 #include "app/interrupt_guard.h"
 #include "app/option_parsing.h"
@@ -95,6 +97,9 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     // Under mpirun rank 0 alone reads the display and the path (and runs the colon analysis for
     // --path auto); every rank gets what it found.
     distribution::MpiSession& mpi = distribution::mpiSession();
+    if (!givenOptions.jsonPath.empty() && distribution::isReporter(mpi)) {
+        requireWritableOutput(givenOptions.jsonPath, givenOptions.force);
+    }
     RenderOptions options = givenOptions;
     const distribution::SequenceRequest request =
         distribution::sharedSequenceRequest(mpi, [&] { return readRequest(givenOptions, options); });
@@ -189,13 +194,17 @@ void runDisplayRender(const RenderOptions& givenOptions) {
     engine::ReviewPage page = engine::reviewPageOfSequence(job, &loaded.volume);
     page.candidates = std::move(candidates);
     engine::writeReviewPage(options.outPath, page);
+    nlohmann::json document = engine::sequenceSummaryJson(job, summary, options.outPath);
     if (!options.dicomOut.empty()) {
         // The source's identifiers: the folder given, not the cleansed NRRD that --path auto renders.
         const engine::SequenceDicomSummary dicom = engine::writeSequenceDicom(
             job, options.outPath, options.dicomOut, volumes::dicomIdentifiersOf(givenOptions.volumePath), options.force);
         std::cerr << "dicom: " << dicom.files << " file(s) in " << dicom.series << " series in " << options.dicomOut << '\n';
+        document["dicom"] = {{"folder", std::filesystem::absolute(options.dicomOut).string()},
+                             {"files", dicom.files},
+                             {"series", dicom.series}};
     }
-    const int images = summary.framesRendered * 2 * static_cast<int>(display.walls.size());
+    const int images = document.at("wall_images").get<int>();
     std::cout << "rendered " << summary.framesRendered << " frame(s) (" << images << " wall images) on "
               << context.driverDescription();
     if (mpi.isShared()) std::cout << " x " << mpi.ranks() << " ranks (" << options.distribution << ")";
@@ -218,6 +227,13 @@ void runDisplayRender(const RenderOptions& givenOptions) {
         std::cout << "; finished frame(s)";
         for (int index : summary.framesFinishedFromImages) std::cout << ' ' << index;
         std::cout << " from the images the run that stopped had written";
+    }
+    if (!options.jsonPath.empty()) {
+        document["view"] = "display";
+        document["ranks"] = mpi.ranks();
+        // Each rank times its own dispatches: under mpirun rank 0's alone are known here.
+        if (mpi.isShared()) document["ray_casting_ms_per_stereo_frame"] = nullptr;
+        writeTextFile(options.jsonPath, document.dump(1) + "\n");
     }
     std::cout << "\nwrote " << options.outPath << " (review page: "
               << (std::filesystem::path(options.outPath) / "index.html").string() << ")\n";

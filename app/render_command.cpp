@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "app/commands.h"
 #include "app/option_groups.h"
@@ -31,6 +32,7 @@ void runPinholeRender(const RenderOptions& options) {
     requireWritableOutput(options.outPath, options.force);
     if (!options.hitsPath.empty()) requireWritableOutput(options.hitsPath, options.force);
     if (!options.dicomOut.empty()) checkDicomOutput(options.dicomOut, options.force);
+    if (!options.jsonPath.empty()) requireWritableOutput(options.jsonPath, options.force);
     engine::RenderSettings settings = renderSettingsFrom(options, false);
     settings.isWritingHits = !options.hitsPath.empty();
 
@@ -50,6 +52,14 @@ void runPinholeRender(const RenderOptions& options) {
     }
 
     const double totalS = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    nlohmann::json summary{{"view", "pinhole"},
+                           {"renderer", context.driverDescription()},
+                           {"width", image.width},
+                           {"height", image.height},
+                           {"ray_casting_ms", image.deviceMs >= 0.0 ? nlohmann::json(image.deviceMs) : nlohmann::json()},
+                           {"seconds", totalS},
+                           {"png", std::filesystem::absolute(options.outPath).string()}};
+    if (!options.hitsPath.empty()) summary["hits"] = std::filesystem::absolute(options.hitsPath).string();
     std::cout << "rendered " << image.width << "x" << image.height << " on " << context.driverDescription() << ": ";
     if (image.deviceMs >= 0.0) std::cout << "ray casting " << image.deviceMs << " ms, ";
     std::cout << "total " << totalS << " s\nwrote " << options.outPath << '\n';
@@ -64,6 +74,7 @@ void runPinholeRender(const RenderOptions& options) {
         const std::string file = (std::filesystem::path(options.dicomOut) / "render.dcm").string();
         volumes::writeSecondaryCapture(file, image.width, image.height, image.rgba, capture, options.force);
         std::cout << "wrote " << file << '\n';
+        summary["dicom"] = std::filesystem::absolute(file).string();
     }
     if (options.isPrintingStats) {
         // A second pass with the counting variant of the shader, so the timed pass is the real one.
@@ -73,7 +84,9 @@ void runPinholeRender(const RenderOptions& options) {
         const engine::FetchCounts fetches = engine::fetchCountsOf(counted);
         std::cout << "fetches per ray: mean " << fetches.total / fetches.rays << ", max " << fetches.most << "; "
                   << fetches.total / (image.deviceMs * 1e-3) << " fetches per second\n";
+        summary["fetches_per_ray"] = {{"mean", fetches.total / fetches.rays}, {"max", fetches.most}};
     }
+    if (!options.jsonPath.empty()) writeTextFile(options.jsonPath, summary.dump(1) + "\n");
 }
 
 }  // namespace
@@ -84,13 +97,15 @@ void addRenderCommand(CLI::App& program) {
     CLI::App* command = program.add_subcommand(
         "render", "Render a CT volume: a pinhole view to a PNG, or with --display every wall for both eyes to a folder");
     addVolumeOptions(*command, options->volumePath, options->rawSpec);
-    command->add_option("-o,--out", options->outPath,
-                        "Output: a PNG file (pinhole view, default render.png) or a folder (--display, default frames)");
+    addOutputOptions(*command, options->outPath,
+                     "Output: a PNG file (pinhole view, default render.png) or a folder (--display, default frames)",
+                     false, options->jsonPath,
+                     "Also write a machine-readable summary of the render (what the last lines say) to this file",
+                     options->force, "Replace existing output");
     CLI::Option* hits = command->add_option(
         "--hits", options->hitsPath,
         "Also write first-hit positions (volume mm): a pinhole view to this .nrrd file; a display render (no "
         "file name) to frame_NNNN/EYE/WALL_hits.nrrd beside each wall")->expected(0, 1);
-    command->add_flag("--force", options->force, "Replace existing output");
     command->add_option("--dicom-out", options->dicomOut,
                         "Also write the pictures into this folder as DICOM Secondary Capture, in the source series' "
                         "study (a source that is not DICOM gets marked placeholder identifiers)");

@@ -25,6 +25,7 @@ struct RenderOptions {
     bool isWritingDisplayHits = false;  // display render: --hits (no file name)
     bool isPrintingStats = false;  // pinhole: also count the volume fetches each ray makes
     std::string dicomOut;          // --dicom-out DIR: the pictures also as DICOM Secondary Capture
+    std::string jsonPath;          // --json FILE: a machine-readable summary of the render
     bool force = false;
     bool resume = false;
     // Camera (pinhole), or the single pose of a display

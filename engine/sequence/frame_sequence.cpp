@@ -7,6 +7,7 @@
 #include <fstream>
 #include <future>
 #include <iomanip>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <optional>
@@ -359,6 +360,27 @@ void checkSequenceOutput(const SequenceJob& job, const SequenceOutput& output) {
         throw std::runtime_error(output.folder +
                                  ": exists and is not empty (pass --resume to continue it or --force to replace it)");
     }
+}
+
+nlohmann::json sequenceSummaryJson(const SequenceJob& job, const SequenceSummary& summary, const std::string& folder) {
+    const int wallImages = summary.framesRendered * static_cast<int>(std::size(kStereoEyes) * job.display.walls.size());
+    nlohmann::json document;
+    document["display"] = job.display.name;
+    document["renderer"] = job.rendererDescription;
+    document["frames_total"] = job.poses.size();
+    document["frames_rendered"] = summary.framesRendered;
+    document["frames_kept"] = summary.framesKept;
+    document["frames_left_half_written"] = summary.framesLeftHalfWritten;
+    document["frames_finished_from_images"] = summary.framesFinishedFromImages;
+    document["wall_images"] = wallImages;
+    document["seconds"] = summary.seconds;
+    const bool isAny = summary.framesRendered > 0;
+    document["seconds_per_frame"] = isAny ? nlohmann::json(summary.seconds / summary.framesRendered) : nlohmann::json();
+    document["ray_casting_ms_per_stereo_frame"] =
+        isAny ? nlohmann::json(summary.rayCastingMs / summary.framesRendered) : nlohmann::json();
+    document["folder"] = fs::absolute(folder).string();
+    document["review_page"] = (fs::absolute(folder) / "index.html").string();
+    return document;
 }
 
 std::string sequenceManifest(const SequenceJob& job) {

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "engine/display/display.h"
 #include "engine/output/png_writer.h"
 #include "engine/render/raycaster.h"
@@ -127,6 +129,11 @@ struct SequenceSummary {
     int sheetsOfOtherRanks = 0;
     double sheetsOfOtherRanksSeconds = 0.0;
 };
+
+/// What one run of `job` into `folder` did, as `cvc render --json` writes it: the display, the
+/// renderer, the frames rendered and kept (their indices where a stopped run left them), the wall
+/// images, the seconds, the ray casting per stereo frame, the folder and its review page.
+nlohmann::json sequenceSummaryJson(const SequenceJob& job, const SequenceSummary& summary, const std::string& folder);
 
 /// The manifest (render.json) of `job`: everything that determines the images, so that
 /// --resume can refuse a changed request.

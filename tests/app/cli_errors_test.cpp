@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "tests/support/run_program.h"
 #include "volumes/analytic_phantom.h"
@@ -276,6 +277,43 @@ TEST(CliRender, WritesAPngOfThePhantom) {
     };
     EXPECT_EQ(be32(16), 64);
     EXPECT_EQ(be32(20), 48);
+}
+
+/// --json: the summary says what the last lines say, names the files written, and an existing
+/// summary is refused before any work unless --force.
+TEST(CliRender, JsonSummaryOfAPinholeView) {
+    const fs::path volume = tmp("cli_json_ball.nrrd");
+    ASSERT_EQ(runCvc("phantom --kind ball --size 48 --force -o " + volume.string()).exitCode, 0);
+    const fs::path png = tmp("cli_json_ball.png");
+    const fs::path json = tmp("cli_json_ball.json");
+    fs::remove(png);
+    fs::remove(json);
+    const std::string command = "render " + volume.string() + " --iso 0 --size 64x48 --stats -o " + png.string() +
+                                " --json " + json.string();
+    const auto run = runCvc(command);
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const nlohmann::json summary = nlohmann::json::parse(readWholeFile(json));
+    EXPECT_EQ(summary.at("view"), "pinhole");
+    EXPECT_EQ(summary.at("width"), 64);
+    EXPECT_EQ(summary.at("height"), 48);
+    EXPECT_EQ(summary.at("png"), fs::absolute(png).string());
+    EXPECT_TRUE(fs::exists(summary.at("png").get<std::string>()));
+    EXPECT_NE(run.out.find(" on " + summary.at("renderer").get<std::string>() + ": "), std::string::npos) << run.out;
+    EXPECT_GT(summary.at("seconds").get<double>(), 0.0);
+    EXPECT_GT(summary.at("fetches_per_ray").at("mean").get<double>(), 0.0);
+    EXPECT_GE(summary.at("fetches_per_ray").at("max").get<double>(), summary.at("fetches_per_ray").at("mean").get<double>());
+
+    // An existing summary is refused before any work, naming it, unless --force: no PNG is written.
+    fs::remove(png);
+    const auto refused = runCvc(command);
+    EXPECT_NE(refused.exitCode, 0);
+    EXPECT_EQ(lineCount(refused.err), 1) << refused.err;
+    EXPECT_NE(refused.err.find(json.string()), std::string::npos) << refused.err;
+    EXPECT_FALSE(fs::exists(png));
+    const auto forced = runCvc(command + " --force");
+    ASSERT_EQ(forced.exitCode, 0) << forced.err;
+    EXPECT_TRUE(fs::exists(png));
+    EXPECT_EQ(nlohmann::json::parse(readWholeFile(json)).at("png"), fs::absolute(png).string());
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "tests/support/folder_compare.h"
 #include "tests/support/run_program.h"
@@ -61,6 +62,39 @@ TEST(DisplayRender, WritesEveryWallForBothEyesAndASheetPerFrame) {
     EXPECT_NE(run.out.find("review page: " + (out / "index.html").string()), std::string::npos) << run.out;
     // Progress goes to stderr, one line per frame when it is not a terminal.
     EXPECT_NE(run.err.find("frames 3/3"), std::string::npos) << run.err;
+}
+
+/// --json: the frames, wall images and files of the run, as its last lines say them; after a
+/// frame is lost, --resume's summary counts the frames it kept.
+TEST(DisplayRender, JsonSummaryCountsTheFramesRenderedAndKept) {
+    const SmallScene scene;
+    const fs::path out = tmp("display/frames_json");
+    const fs::path json = tmp("display/frames_json.json");
+    fs::remove_all(out);
+    fs::remove(json);
+    const auto run = runCvc(scene.command(out, "--json " + json.string()));
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    nlohmann::json summary = nlohmann::json::parse(testing_support::readWholeFile(json));
+    EXPECT_EQ(summary.at("view"), "display");
+    EXPECT_EQ(summary.at("display"), "tiny");
+    EXPECT_EQ(summary.at("ranks"), 1);
+    EXPECT_EQ(summary.at("frames_total"), 3);
+    EXPECT_EQ(summary.at("frames_rendered"), 3);
+    EXPECT_EQ(summary.at("frames_kept"), 0);
+    EXPECT_EQ(summary.at("wall_images"), 30);
+    EXPECT_NE(run.out.find("rendered 3 frame(s) (30 wall images)"), std::string::npos) << run.out;
+    EXPECT_EQ(summary.at("folder"), fs::absolute(out).string());
+    EXPECT_TRUE(fs::exists(summary.at("review_page").get<std::string>()));
+    EXPECT_GT(summary.at("ray_casting_ms_per_stereo_frame").get<double>(), 0.0);
+
+    fs::remove_all(out / "frame_0001");
+    fs::remove(json);  // an existing summary needs --force, which would replace the frames too
+    const auto resumed = runCvc(scene.command(out, "--resume --json " + json.string()));
+    ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
+    summary = nlohmann::json::parse(testing_support::readWholeFile(json));
+    EXPECT_EQ(summary.at("frames_rendered"), 1);
+    EXPECT_EQ(summary.at("frames_kept"), 2);
+    EXPECT_EQ(summary.at("wall_images"), 10);
 }
 
 TEST(DisplayRender, ResumeRendersOnlyWhatIsMissingAndForceIsNeededToReplace) {
