@@ -165,7 +165,9 @@ void runDisplayRender(const RenderOptions& givenOptions) {
             raycaster.setSpeedBounds(bounds.size, bounds.rgba);
         }
     };
-    if (hasMap) distribution::rootFirst(mpi, loadMap);
+    distribution::rootFirst(mpi, [&] {
+        if (hasMap) loadMap();
+    });
 
     InterruptGuard interruptGuard;
     std::optional<ProgressBar> progress;  // made at the first report, which says how many frames were kept
